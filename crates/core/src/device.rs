@@ -1,0 +1,654 @@
+//! The device: D3D9-shaped state setters over a backend that draws.
+//!
+//! [`Device`] holds every state a D3D9 program sets ([`DeviceState`]) and validates calls the
+//! way the D3D9 runtime does; a [`Backend`] turns draws into pixels. Backends never see an
+//! invalid state: viewports lie inside the target, stage indices are in range, vertex buffers
+//! hold whole vertices.
+
+use std::fmt;
+use std::sync::Arc;
+
+use crate::caps::Caps;
+use crate::fvf::{Fvf, FvfError};
+use crate::math::Mat4;
+use crate::states::{
+    Api, Blend, BlendOp, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter,
+    TextureOp, TextureStageState, ZBufferType,
+};
+use crate::texture::Texture;
+
+/// Texture stages and samplers of the fixed-function pipeline.
+pub const MAX_STAGES: usize = 8;
+/// User clip planes (D3DMAXUSERCLIPPLANES).
+pub const MAX_CLIP_PLANES: usize = 6;
+/// Largest render target side pointillist accepts.
+pub const MAX_TARGET_SIZE: u32 = 16384;
+
+/// D3DVIEWPORT9: the target rectangle and depth range points are mapped to (SPEC 1).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Viewport {
+    /// Left column.
+    pub x: u32,
+    /// Top row.
+    pub y: u32,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels; `Vh` of the point-scale formula (SPEC 2.2).
+    pub height: u32,
+    /// Depth of clip-space z = 0.
+    pub min_z: f32,
+    /// Depth of clip-space z = w.
+    pub max_z: f32,
+}
+
+impl Viewport {
+    /// The whole of a `width` x `height` target, depth 0..1.
+    pub fn full(width: u32, height: u32) -> Viewport {
+        Viewport {
+            x: 0,
+            y: 0,
+            width,
+            height,
+            min_z: 0.0,
+            max_z: 1.0,
+        }
+    }
+}
+
+/// D3DTRANSFORMSTATETYPE for the three fixed-function transforms.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum TransformType {
+    /// D3DTS_WORLD: object to world.
+    World,
+    /// D3DTS_VIEW: world to eye.
+    View,
+    /// D3DTS_PROJECTION: eye to clip.
+    Projection,
+}
+
+/// A value a state can be set to: its raw 32 bits (SPEC 2.7).
+pub trait StateValue {
+    /// The 32 bits stored in the state.
+    fn to_bits(self) -> u32;
+}
+
+impl StateValue for u32 {
+    fn to_bits(self) -> u32 {
+        self
+    }
+}
+
+impl StateValue for f32 {
+    fn to_bits(self) -> u32 {
+        f32::to_bits(self)
+    }
+}
+
+impl StateValue for bool {
+    fn to_bits(self) -> u32 {
+        u32::from(self)
+    }
+}
+
+macro_rules! enum_state_value {
+    ($($t:ty),*) => {$(
+        impl StateValue for $t {
+            fn to_bits(self) -> u32 {
+                self as u32
+            }
+        }
+    )*};
+}
+enum_state_value!(
+    Blend,
+    BlendOp,
+    Cmp,
+    TextureOp,
+    TextureAddress,
+    TextureFilter,
+    ZBufferType
+);
+
+/// What a device is created with.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct DeviceDesc {
+    /// Which default table applies.
+    pub api: Api,
+    /// The caps to emulate.
+    pub caps: Caps,
+    /// Target width in pixels.
+    pub width: u32,
+    /// Target height in pixels.
+    pub height: u32,
+    /// D3DCOLOR the target is cleared to at creation.
+    pub clear_color: u32,
+    /// Depth the depth buffer is cleared to at creation.
+    pub clear_depth: f32,
+}
+
+impl DeviceDesc {
+    /// A D3D9 reference device with a `width` x `height` target cleared to opaque black.
+    pub fn new(width: u32, height: u32) -> DeviceDesc {
+        DeviceDesc {
+            api: Api::D3d9,
+            caps: Caps::reference(),
+            width,
+            height,
+            clear_color: 0xFF00_0000,
+            clear_depth: 1.0,
+        }
+    }
+}
+
+/// Why a device call was refused.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DeviceError {
+    /// Target size zero or above [`MAX_TARGET_SIZE`].
+    TargetSize {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+    },
+    /// A viewport not inside the target, empty, or with a bad depth range.
+    Viewport(String),
+    /// A stage or sampler index outside 0..8.
+    Stage(usize),
+    /// A clip plane index outside 0..6.
+    ClipPlane(usize),
+    /// A bad vertex format.
+    Fvf(FvfError),
+    /// A vertex buffer whose length is not a whole number of vertices.
+    VertexBufferLength {
+        /// The buffer's length in bytes.
+        len: usize,
+        /// The format's stride in bytes.
+        stride: usize,
+    },
+    /// The backend failed (GPU errors, out of memory).
+    Backend(String),
+}
+
+impl fmt::Display for DeviceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DeviceError::TargetSize { width, height } => write!(
+                f,
+                "render target {width}x{height} is outside 1..={MAX_TARGET_SIZE} per side"
+            ),
+            DeviceError::Viewport(m) => write!(f, "invalid viewport: {m}"),
+            DeviceError::Stage(s) => write!(f, "stage {s} is outside 0..=7"),
+            DeviceError::ClipPlane(i) => write!(f, "clip plane {i} is outside 0..=5"),
+            DeviceError::Fvf(e) => write!(f, "{e}"),
+            DeviceError::VertexBufferLength { len, stride } => write!(
+                f,
+                "vertex buffer of {len} bytes is not a multiple of the FVF stride {stride}"
+            ),
+            DeviceError::Backend(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+impl std::error::Error for DeviceError {}
+
+impl From<FvfError> for DeviceError {
+    fn from(e: FvfError) -> Self {
+        DeviceError::Fvf(e)
+    }
+}
+
+/// Every state a draw depends on, as a D3D9 device holds it.
+#[derive(Clone, Debug)]
+pub struct DeviceState {
+    /// Which default table applies.
+    pub api: Api,
+    /// The device's caps (as reported; the pipeline applies [`Caps::effective`]).
+    pub caps: Caps,
+    /// Target width.
+    pub target_width: u32,
+    /// Target height.
+    pub target_height: u32,
+    /// D3DRS_* values, raw.
+    pub render_states: [u32; RenderState::COUNT],
+    /// D3DTSS_* values per stage, raw.
+    pub stage_states: [[u32; TextureStageState::COUNT]; MAX_STAGES],
+    /// D3DSAMP_* values per sampler, raw.
+    pub sampler_states: [[u32; SamplerState::COUNT]; MAX_STAGES],
+    /// Bound textures.
+    pub textures: [Option<Arc<Texture>>; MAX_STAGES],
+    /// D3DTS_WORLD.
+    pub world: Mat4,
+    /// D3DTS_VIEW.
+    pub view: Mat4,
+    /// D3DTS_PROJECTION.
+    pub projection: Mat4,
+    /// The viewport.
+    pub viewport: Viewport,
+    /// User clip planes in world space.
+    pub clip_planes: [[f32; 4]; MAX_CLIP_PLANES],
+}
+
+impl DeviceState {
+    /// The state of a freshly created device (SPEC 2.6 defaults).
+    pub fn new(api: Api, caps: Caps, width: u32, height: u32) -> DeviceState {
+        let mut render_states = [0u32; RenderState::COUNT];
+        for &s in RenderState::all() {
+            render_states[s.0 as usize] = s.default_value(api, caps.max_point_size);
+        }
+        let mut stage_states = [[0u32; TextureStageState::COUNT]; MAX_STAGES];
+        let mut sampler_states = [[0u32; SamplerState::COUNT]; MAX_STAGES];
+        for stage in 0..MAX_STAGES {
+            for &s in TextureStageState::all() {
+                stage_states[stage][s.0 as usize] = s.default_value(stage);
+            }
+            for &s in SamplerState::all() {
+                sampler_states[stage][s.0 as usize] = s.default_value();
+            }
+        }
+        DeviceState {
+            api,
+            caps,
+            target_width: width,
+            target_height: height,
+            render_states,
+            stage_states,
+            sampler_states,
+            textures: Default::default(),
+            world: Mat4::IDENTITY,
+            view: Mat4::IDENTITY,
+            projection: Mat4::IDENTITY,
+            viewport: Viewport::full(width, height),
+            clip_planes: [[0.0; 4]; MAX_CLIP_PLANES],
+        }
+    }
+
+    /// A render state's raw value.
+    #[inline]
+    pub fn render_state(&self, s: RenderState) -> u32 {
+        self.render_states.get(s.0 as usize).copied().unwrap_or(0)
+    }
+
+    /// A texture-stage state's raw value.
+    #[inline]
+    pub fn stage_state(&self, stage: usize, s: TextureStageState) -> u32 {
+        self.stage_states[stage]
+            .get(s.0 as usize)
+            .copied()
+            .unwrap_or(0)
+    }
+}
+
+/// The render target read back: `width * height` D3DCOLORs and depths, rows top to bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderTarget {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// A8R8G8B8 pixels.
+    pub color: Vec<u32>,
+    /// The depth buffer.
+    pub depth: Vec<f32>,
+}
+
+impl RenderTarget {
+    /// A target filled with one colour and depth.
+    pub fn new(width: u32, height: u32, color: u32, depth: f32) -> RenderTarget {
+        let n = width as usize * height as usize;
+        RenderTarget {
+            width,
+            height,
+            color: vec![color; n],
+            depth: vec![depth; n],
+        }
+    }
+
+    /// The D3DCOLOR at column `x`, row `y`.
+    pub fn pixel(&self, x: u32, y: u32) -> u32 {
+        self.color[y as usize * self.width as usize + x as usize]
+    }
+
+    /// The pixels as RGBA8 bytes, the layout of a PNG (SCENE.md, command line).
+    pub fn to_rgba8(&self) -> Vec<u8> {
+        self.color
+            .iter()
+            .flat_map(|&c| crate::color::argb_to_rgba8(c))
+            .collect()
+    }
+}
+
+/// What a backend implements. The device validates every call before it reaches here.
+pub trait Backend {
+    /// Creates the target, cleared.
+    fn create_target(&mut self, width: u32, height: u32, color: u32, depth: f32)
+    -> Result<(), DeviceError>;
+    /// Clears the whole target (D3DCLEAR_TARGET | D3DCLEAR_ZBUFFER).
+    fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError>;
+    /// Draws `vertices` (whole vertices of format `fvf`) as a point list with `state`.
+    fn draw_points(&mut self, state: &DeviceState, fvf: Fvf, vertices: &[u8])
+    -> Result<(), DeviceError>;
+    /// Reads the target back.
+    fn read_target(&mut self) -> Result<RenderTarget, DeviceError>;
+}
+
+/// A D3D9 device drawing point lists through backend `B`.
+pub struct Device<B: Backend> {
+    backend: B,
+    state: DeviceState,
+    notices: Vec<String>,
+    noticed_render: [bool; RenderState::COUNT],
+    noticed_stage: [bool; TextureStageState::COUNT],
+    noticed_sampler: [bool; SamplerState::COUNT],
+}
+
+impl<B: Backend> Device<B> {
+    /// Creates a device and its cleared target.
+    pub fn new(mut backend: B, desc: DeviceDesc) -> Result<Self, DeviceError> {
+        let DeviceDesc { width, height, .. } = desc;
+        if width == 0 || height == 0 || width > MAX_TARGET_SIZE || height > MAX_TARGET_SIZE {
+            return Err(DeviceError::TargetSize { width, height });
+        }
+        backend.create_target(width, height, desc.clear_color, desc.clear_depth)?;
+        Ok(Device {
+            backend,
+            state: DeviceState::new(desc.api, desc.caps, width, height),
+            notices: Vec::new(),
+            noticed_render: [false; RenderState::COUNT],
+            noticed_stage: [false; TextureStageState::COUNT],
+            noticed_sampler: [false; SamplerState::COUNT],
+        })
+    }
+
+    /// GetDeviceCaps: the caps the device reports.
+    pub fn caps(&self) -> &Caps {
+        &self.state.caps
+    }
+
+    /// All current state.
+    pub fn state(&self) -> &DeviceState {
+        &self.state
+    }
+
+    /// The backend.
+    pub fn backend(&self) -> &B {
+        &self.backend
+    }
+
+    /// The backend, mutable.
+    pub fn backend_mut(&mut self) -> &mut B {
+        &mut self.backend
+    }
+
+    /// SetRenderState. Any 32 bits are stored verbatim (SPEC 2.7); a state with no effect on
+    /// points is noted once (see [`Device::take_notices`]).
+    pub fn set_render_state(&mut self, s: RenderState, value: impl StateValue) {
+        let Some(slot) = self.state.render_states.get_mut(s.0 as usize) else {
+            self.notices.push(format!("unknown render state {} ignored", s.0));
+            return;
+        };
+        *slot = value.to_bits();
+        if !s.affects_points() && !self.noticed_render[s.0 as usize] {
+            self.noticed_render[s.0 as usize] = true;
+            self.notices.push(format!(
+                "render state {} has no effect on points; ignored",
+                s.name().unwrap_or("?")
+            ));
+        }
+    }
+
+    /// GetRenderState.
+    pub fn render_state(&self, s: RenderState) -> u32 {
+        self.state.render_state(s)
+    }
+
+    /// SetTextureStageState.
+    pub fn set_texture_stage_state(
+        &mut self,
+        stage: usize,
+        s: TextureStageState,
+        value: impl StateValue,
+    ) -> Result<(), DeviceError> {
+        let slot = self
+            .state
+            .stage_states
+            .get_mut(stage)
+            .ok_or(DeviceError::Stage(stage))?
+            .get_mut(s.0 as usize)
+            .ok_or(DeviceError::Stage(stage))?;
+        *slot = value.to_bits();
+        if !s.affects_points() && !self.noticed_stage[s.0 as usize] {
+            self.noticed_stage[s.0 as usize] = true;
+            self.notices.push(format!(
+                "texture stage state {} has no effect on points; ignored",
+                s.name().unwrap_or("?")
+            ));
+        }
+        Ok(())
+    }
+
+    /// GetTextureStageState.
+    pub fn texture_stage_state(&self, stage: usize, s: TextureStageState) -> Option<u32> {
+        self.state.stage_states.get(stage)?.get(s.0 as usize).copied()
+    }
+
+    /// SetSamplerState.
+    pub fn set_sampler_state(
+        &mut self,
+        sampler: usize,
+        s: SamplerState,
+        value: impl StateValue,
+    ) -> Result<(), DeviceError> {
+        let slot = self
+            .state
+            .sampler_states
+            .get_mut(sampler)
+            .ok_or(DeviceError::Stage(sampler))?
+            .get_mut(s.0 as usize)
+            .ok_or(DeviceError::Stage(sampler))?;
+        *slot = value.to_bits();
+        if !s.affects_points() && !self.noticed_sampler[s.0 as usize] {
+            self.noticed_sampler[s.0 as usize] = true;
+            self.notices.push(format!(
+                "sampler state {} has no effect on points; ignored",
+                s.name().unwrap_or("?")
+            ));
+        }
+        Ok(())
+    }
+
+    /// GetSamplerState.
+    pub fn sampler_state(&self, sampler: usize, s: SamplerState) -> Option<u32> {
+        self.state.sampler_states.get(sampler)?.get(s.0 as usize).copied()
+    }
+
+    /// SetTexture; `None` unbinds.
+    pub fn set_texture(
+        &mut self,
+        stage: usize,
+        texture: Option<Arc<Texture>>,
+    ) -> Result<(), DeviceError> {
+        *self
+            .state
+            .textures
+            .get_mut(stage)
+            .ok_or(DeviceError::Stage(stage))? = texture;
+        Ok(())
+    }
+
+    /// SetTransform.
+    pub fn set_transform(&mut self, t: TransformType, m: Mat4) {
+        match t {
+            TransformType::World => self.state.world = m,
+            TransformType::View => self.state.view = m,
+            TransformType::Projection => self.state.projection = m,
+        }
+    }
+
+    /// SetViewport: refused when empty, not inside the target, or with a depth range outside
+    /// 0..=1 or min_z above max_z.
+    pub fn set_viewport(&mut self, vp: Viewport) -> Result<(), DeviceError> {
+        let (w, h) = (self.state.target_width, self.state.target_height);
+        if vp.width == 0 || vp.height == 0 {
+            return Err(DeviceError::Viewport(format!(
+                "{}x{} is empty",
+                vp.width, vp.height
+            )));
+        }
+        if u64::from(vp.x) + u64::from(vp.width) > u64::from(w)
+            || u64::from(vp.y) + u64::from(vp.height) > u64::from(h)
+        {
+            return Err(DeviceError::Viewport(format!(
+                "{}x{} at ({}, {}) does not fit the {w}x{h} target",
+                vp.width, vp.height, vp.x, vp.y
+            )));
+        }
+        let depth_ok = |z: f32| (0.0..=1.0).contains(&z);
+        if !depth_ok(vp.min_z) || !depth_ok(vp.max_z) || vp.min_z > vp.max_z {
+            return Err(DeviceError::Viewport(format!(
+                "depth range min_z {} max_z {} must satisfy 0 <= min_z <= max_z <= 1",
+                vp.min_z, vp.max_z
+            )));
+        }
+        self.state.viewport = vp;
+        Ok(())
+    }
+
+    /// SetClipPlane: plane `(a, b, c, d)` in world space, index 0..6.
+    pub fn set_clip_plane(&mut self, index: usize, plane: [f32; 4]) -> Result<(), DeviceError> {
+        *self
+            .state
+            .clip_planes
+            .get_mut(index)
+            .ok_or(DeviceError::ClipPlane(index))? = plane;
+        Ok(())
+    }
+
+    /// Clear of the whole target and depth buffer.
+    pub fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError> {
+        self.backend.clear(color, depth)
+    }
+
+    /// DrawPrimitiveUP(D3DPT_POINTLIST) from raw little-endian FVF bytes.
+    pub fn draw_point_list(&mut self, fvf: Fvf, vertices: &[u8]) -> Result<(), DeviceError> {
+        let fvf = fvf.validate()?;
+        let stride = fvf.stride();
+        if vertices.len() % stride != 0 {
+            return Err(DeviceError::VertexBufferLength {
+                len: vertices.len(),
+                stride,
+            });
+        }
+        if vertices.is_empty() {
+            return Ok(());
+        }
+        self.backend.draw_points(&self.state, fvf, vertices)
+    }
+
+    /// DrawPrimitiveUP(D3DPT_POINTLIST) from typed vertices.
+    pub fn draw_vertices<V: Vertex>(&mut self, vertices: &[V]) -> Result<(), DeviceError> {
+        let mut bytes = Vec::with_capacity(vertices.len() * V::FVF.stride());
+        for v in vertices {
+            v.write(&mut bytes);
+        }
+        self.draw_point_list(V::FVF, &bytes)
+    }
+
+    /// Notes gathered since the last call: states set that points ignore, once each.
+    pub fn take_notices(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.notices)
+    }
+
+    /// Reads the render target back.
+    pub fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        self.backend.read_target()
+    }
+}
+
+/// A typed vertex of a fixed FVF, written little-endian in FVF order.
+pub trait Vertex {
+    /// The format.
+    const FVF: Fvf;
+    /// Appends this vertex's bytes.
+    fn write(&self, out: &mut Vec<u8>);
+}
+
+fn put(out: &mut Vec<u8>, words: &[u32]) {
+    for w in words {
+        out.extend_from_slice(&w.to_le_bytes());
+    }
+}
+
+/// D3DFVF_XYZ | D3DFVF_DIFFUSE.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct XyzDiffuse {
+    /// Object-space position.
+    pub position: [f32; 3],
+    /// D3DCOLOR.
+    pub diffuse: u32,
+}
+
+impl Vertex for XyzDiffuse {
+    const FVF: Fvf = Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0);
+    fn write(&self, out: &mut Vec<u8>) {
+        let p = self.position.map(f32::to_bits);
+        put(out, &[p[0], p[1], p[2], self.diffuse]);
+    }
+}
+
+/// D3DFVF_XYZ | D3DFVF_PSIZE | D3DFVF_DIFFUSE: the vertex of seed 004's tutorial.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct XyzPsizeDiffuse {
+    /// Object-space position.
+    pub position: [f32; 3],
+    /// Per-vertex size.
+    pub psize: f32,
+    /// D3DCOLOR.
+    pub diffuse: u32,
+}
+
+impl Vertex for XyzPsizeDiffuse {
+    const FVF: Fvf = Fvf(Fvf::XYZ.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+    fn write(&self, out: &mut Vec<u8>) {
+        let p = self.position.map(f32::to_bits);
+        put(out, &[p[0], p[1], p[2], self.psize.to_bits(), self.diffuse]);
+    }
+}
+
+/// D3DFVF_XYZRHW | D3DFVF_DIFFUSE: a pre-transformed point in pixels.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct XyzRhwDiffuse {
+    /// Screen x, y, depth z and 1/w.
+    pub position: [f32; 4],
+    /// D3DCOLOR.
+    pub diffuse: u32,
+}
+
+impl Vertex for XyzRhwDiffuse {
+    const FVF: Fvf = Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0);
+    fn write(&self, out: &mut Vec<u8>) {
+        let p = self.position.map(f32::to_bits);
+        put(out, &[p[0], p[1], p[2], p[3], self.diffuse]);
+    }
+}
+
+/// D3DFVF_XYZRHW | D3DFVF_PSIZE | D3DFVF_DIFFUSE.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct XyzRhwPsizeDiffuse {
+    /// Screen x, y, depth z and 1/w.
+    pub position: [f32; 4],
+    /// Size in pixels.
+    pub psize: f32,
+    /// D3DCOLOR.
+    pub diffuse: u32,
+}
+
+impl Vertex for XyzRhwPsizeDiffuse {
+    const FVF: Fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+    fn write(&self, out: &mut Vec<u8>) {
+        let p = self.position.map(f32::to_bits);
+        put(
+            out,
+            &[p[0], p[1], p[2], p[3], self.psize.to_bits(), self.diffuse],
+        );
+    }
+}

@@ -1,0 +1,17 @@
+//! The Direct3D 9 point-sprite rules of pointillist.
+//!
+//! This crate holds every rule of SPEC.md that does not depend on how pixels are produced: render
+//! states and their defaults, device caps, vertex formats, D3D-convention matrices, the per-point
+//! stage (transform, size, clamp, clip, screen square, sprite coordinates), textures and their
+//! sampling, and the fixed-function pixel arithmetic. Backends (`pointillist-cpu`, the GPU
+//! backend) call these functions and are tested against them.
+
+pub mod caps;
+pub mod color;
+pub mod device;
+pub mod fvf;
+pub mod math;
+pub mod pixel;
+pub mod point;
+pub mod states;
+pub mod texture;

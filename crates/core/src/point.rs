@@ -1,0 +1,464 @@
+//! The per-point stage every backend shares: transform, size, clamp, clip, screen square.
+//!
+//! [`PointSetup`] resolves the device state once per draw; [`PointSetup::process`] turns one
+//! vertex into a [`ScreenPoint`] (or drops it) with no allocation. The functions below are the
+//! single source of truth for SPEC sections 2 (size), 3 (clipping) and 4.1/4.3 (coverage,
+//! sprite coordinates).
+
+use crate::caps::Caps;
+use crate::device::{DeviceState, Viewport};
+use crate::fvf::{Fvf, Layout, read_f32, read_u32};
+use crate::math::Mat4;
+use crate::states::RenderState;
+
+/// POINTSCALE_A, B, C and the viewport height `Vh` (SPEC 2.2).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct PointScale {
+    /// POINTSCALE_A.
+    pub a: f32,
+    /// POINTSCALE_B.
+    pub b: f32,
+    /// POINTSCALE_C.
+    pub c: f32,
+    /// The current viewport's height in pixels.
+    pub viewport_height: f32,
+}
+
+/// SPEC 2.2: `Ss = Vh * Si * sqrt(1 / (A + B*De + C*De^2))`, `De` the eye distance.
+#[inline]
+pub fn scaled_size(si: f32, scale: &PointScale, de: f32) -> f32 {
+    scale.viewport_height * si * (1.0 / (scale.a + scale.b * de + scale.c * de * de)).sqrt()
+}
+
+/// SPEC 2.3: `lo = POINTSIZE_MIN`, `hi = min(max_point_size, POINTSIZE_MAX)`,
+/// `S = min(max(Ss, lo), hi)`, so MAX wins over MIN; NaN or negative sizes count as 0;
+/// +infinity clamps to `hi`. A NaN bound is no bound, but never beyond the caps' size.
+#[inline]
+pub fn clamp_size(ss: f32, size_min: f32, size_max: f32, max_point_size: f32) -> f32 {
+    let ss = if ss >= 0.0 { ss } else { 0.0 }; // NaN and negatives
+    let hi = max_point_size.min(size_max); // f32::min ignores a NaN operand
+    ss.max(size_min).min(hi)
+}
+
+/// SPEC 4.1: the pixel indices `k` with `lo <= k < hi` for one axis of a square, as
+/// `start..end`, saturating at the i32 range.
+#[inline]
+pub fn covered_range(lo: f32, hi: f32) -> (i32, i32) {
+    // `as` saturates and maps NaN to 0; callers only pass finite edges.
+    (lo.ceil() as i32, hi.ceil() as i32)
+}
+
+/// SPEC 4.3: a sprite's texture coordinate at pixel centre `k`, for the square's near edge
+/// `edge` and side `size`: `(k - edge) / size`.
+#[inline]
+pub fn sprite_coord(k: i32, edge: f32, size: f32) -> f32 {
+    (k as f32 - edge) / size
+}
+
+/// SPEC 5.2: the level of detail of a sprite of side `size` showing a `width` x `height`
+/// texture: `log2(max(width, height) / size)`.
+#[inline]
+pub fn sprite_lod(width: u32, height: u32, size: f32) -> f32 {
+    (width.max(height) as f32 / size).log2()
+}
+
+/// A half-open rectangle of pixel indices `x0..x1` x `y0..y1`.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Default)]
+pub struct PixelRect {
+    /// First column.
+    pub x0: i32,
+    /// First row.
+    pub y0: i32,
+    /// One past the last column.
+    pub x1: i32,
+    /// One past the last row.
+    pub y1: i32,
+}
+
+impl PixelRect {
+    /// True when no pixel is inside.
+    pub fn is_empty(&self) -> bool {
+        self.x0 >= self.x1 || self.y0 >= self.y1
+    }
+
+    /// The overlap of two rectangles.
+    pub fn intersect(&self, o: &PixelRect) -> PixelRect {
+        PixelRect {
+            x0: self.x0.max(o.x0),
+            y0: self.y0.max(o.y0),
+            x1: self.x1.min(o.x1),
+            y1: self.y1.min(o.y1),
+        }
+    }
+
+    /// Number of pixels inside (0 when empty).
+    pub fn area(&self) -> u64 {
+        if self.is_empty() {
+            0
+        } else {
+            (self.x1 - self.x0) as u64 * (self.y1 - self.y0) as u64
+        }
+    }
+}
+
+/// A user clip plane carried into screen space for one point: the pixel `(i, j)` is kept when
+/// `c0 + ci * i + cj * j >= 0` (SPEC 3.3, CLIPPLANESCALEDPOINTS).
+#[derive(Copy, Clone, Debug, PartialEq, Default)]
+pub struct PixelPlane {
+    /// Value at pixel (0, 0).
+    pub c0: f32,
+    /// Change per column.
+    pub ci: f32,
+    /// Change per row.
+    pub cj: f32,
+}
+
+impl PixelPlane {
+    /// True when pixel `(i, j)` is on the kept side.
+    #[inline]
+    pub fn keeps(&self, i: i32, j: i32) -> bool {
+        self.c0 + self.ci * i as f32 + self.cj * j as f32 >= 0.0
+    }
+}
+
+/// A point that survived the per-point stage, ready to rasterize.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct ScreenPoint {
+    /// Screen x of the centre.
+    pub x: f32,
+    /// Screen y of the centre.
+    pub y: f32,
+    /// Depth written and tested (SPEC 4.2).
+    pub z: f32,
+    /// Final size S (SPEC 2).
+    pub size: f32,
+    /// Left edge of the square, `x - S/2`.
+    pub left: f32,
+    /// Top edge of the square, `y - S/2`.
+    pub top: f32,
+    /// Covered pixels inside the viewport, never empty.
+    pub rect: PixelRect,
+    /// DIFFUSE, default opaque white.
+    pub diffuse: u32,
+    /// SPECULAR, default 0.
+    pub specular: u32,
+    /// Index of the vertex in its draw, to read texture coordinates when needed.
+    pub vertex: u32,
+    /// User clip planes that cut this point's square (at most 6).
+    pub planes: [PixelPlane; 6],
+    /// How many of `planes` apply.
+    pub plane_count: u8,
+}
+
+impl ScreenPoint {
+    /// The user clip planes to test per pixel.
+    pub fn pixel_planes(&self) -> &[PixelPlane] {
+        &self.planes[..self.plane_count as usize]
+    }
+}
+
+/// Everything the per-point stage needs, resolved once per draw.
+#[derive(Clone, Debug)]
+pub struct PointSetup {
+    layout: Layout,
+    pretransformed: bool,
+    world: Mat4,
+    world_view: Mat4,
+    projection: Mat4,
+    viewport: Viewport,
+    viewport_rect: PixelRect,
+    point_size: f32,
+    use_vertex_size: bool,
+    scale: Option<PointScale>,
+    single_pixel: bool,
+    size_min: f32,
+    size_max: f32,
+    max_point_size: f32,
+    clipping: bool,
+    /// Enabled user clip planes: world space (vertex mode) or clip space (scaled mode).
+    planes: [[f32; 4]; 6],
+    plane_count: usize,
+    scaled_planes: bool,
+}
+
+fn dot4(a: [f32; 4], b: [f32; 4]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
+}
+
+impl PointSetup {
+    /// Resolves the state that shapes points for a draw with vertex format `fvf`.
+    pub fn new(state: &DeviceState, fvf: Fvf) -> PointSetup {
+        let rs = |s: RenderState| state.render_state(s);
+        let rf = |s: RenderState| f32::from_bits(state.render_state(s));
+        let caps: Caps = state.caps.effective();
+        let pretransformed = fvf.is_pretransformed();
+        let vp = state.viewport;
+        let clipping = rs(RenderState::CLIPPING) != 0;
+        let scale = (rs(RenderState::POINTSCALEENABLE) != 0 && !pretransformed).then(|| {
+            PointScale {
+                a: rf(RenderState::POINTSCALE_A),
+                b: rf(RenderState::POINTSCALE_B),
+                c: rf(RenderState::POINTSCALE_C),
+                viewport_height: vp.height as f32,
+            }
+        });
+        let world_view = state.world.mul(&state.view);
+        let view_projection = state.view.mul(&state.projection);
+        let clip_from_world_inverse = view_projection.inverse();
+        // With CLIPPLANESCALEDPOINTS the planes are carried into clip space (SPEC 3.3); a view
+        // and projection with no inverse leave only the vertex-position test.
+        let scaled_planes = caps.clip_plane_scaled_points && clip_from_world_inverse.is_some();
+        let mut planes = [[0.0f32; 4]; 6];
+        let mut plane_count = 0;
+        let enabled = if clipping && !pretransformed {
+            rs(RenderState::CLIPPLANEENABLE)
+        } else {
+            0
+        };
+        for (index, plane) in state.clip_planes.iter().enumerate() {
+            if enabled & (1 << index) == 0 {
+                continue;
+            }
+            planes[plane_count] = match clip_from_world_inverse {
+                // (M^-1 * P): the plane as a column vector under the inverse
+                Some(inv) if scaled_planes => [
+                    dot4(inv.0[0], *plane),
+                    dot4(inv.0[1], *plane),
+                    dot4(inv.0[2], *plane),
+                    dot4(inv.0[3], *plane),
+                ],
+                _ => *plane,
+            };
+            plane_count += 1;
+        }
+        PointSetup {
+            layout: fvf.layout(),
+            pretransformed,
+            world: state.world,
+            world_view,
+            projection: state.projection,
+            viewport: vp,
+            viewport_rect: PixelRect {
+                x0: vp.x as i32,
+                y0: vp.y as i32,
+                x1: (vp.x + vp.width) as i32,
+                y1: (vp.y + vp.height) as i32,
+            },
+            point_size: rf(RenderState::POINTSIZE),
+            use_vertex_size: fvf.has_psize() && caps.per_vertex_point_size,
+            scale,
+            single_pixel: caps.max_point_size <= 1.0,
+            size_min: rf(RenderState::POINTSIZE_MIN),
+            size_max: rf(RenderState::POINTSIZE_MAX),
+            max_point_size: caps.max_point_size,
+            clipping,
+            planes,
+            plane_count,
+            scaled_planes,
+        }
+    }
+
+    /// The vertex layout of the draw.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// SPEC 2: the final size of a point with input size `si` at eye distance `de`.
+    #[inline]
+    pub fn size(&self, si: f32, de: f32) -> f32 {
+        if self.single_pixel {
+            return 1.0;
+        }
+        let ss = match &self.scale {
+            Some(scale) => scaled_size(si, scale, de),
+            None => si,
+        };
+        clamp_size(ss, self.size_min, self.size_max, self.max_point_size)
+    }
+
+    /// Runs vertex `index` of `vertices` through the stage; `None` when it is dropped or
+    /// covers no pixel. `vertices` must hold at least `(index + 1) * stride` bytes.
+    pub fn process(&self, vertices: &[u8], index: u32) -> Option<ScreenPoint> {
+        let base = index as usize * self.layout.stride;
+        let v = &vertices[base..base + self.layout.stride];
+        let mut pos = [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), 1.0];
+        if self.layout.position_len == 4 {
+            pos[3] = read_f32(v, 12);
+        }
+        if !pos.iter().all(|c| c.is_finite()) {
+            return None; // SPEC 3.1
+        }
+        let si = match self.layout.psize {
+            Some(o) if self.use_vertex_size => read_f32(v, o),
+            _ => self.point_size,
+        };
+        let vp = &self.viewport;
+        let (x, y, z, size, clip) = if self.pretransformed {
+            let (x, y, z, rhw) = (pos[0], pos[1], pos[2], pos[3]);
+            // SPEC 3.1: w = 1/RHW must be positive; depth range checked in screen space.
+            if rhw <= 0.0 || (self.clipping && !(vp.min_z <= z && z <= vp.max_z)) {
+                return None;
+            }
+            (x, y, z, self.size(si, 0.0), None)
+        } else {
+            let eye = self.world_view.transform(pos);
+            let c = self.projection.transform(eye);
+            if !c.iter().all(|v| v.is_finite()) || c[3] <= 0.0 {
+                return None;
+            }
+            if self.clipping && !(0.0 <= c[2] && c[2] <= c[3]) {
+                return None;
+            }
+            let de = (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt();
+            let x = vp.x as f32 + (1.0 + c[0] / c[3]) * vp.width as f32 / 2.0;
+            let y = vp.y as f32 + (1.0 - c[1] / c[3]) * vp.height as f32 / 2.0;
+            let z = vp.min_z + (c[2] / c[3]) * (vp.max_z - vp.min_z);
+            (x, y, z, self.size(si, de), Some(c))
+        };
+        if !(x.is_finite() && y.is_finite() && z.is_finite()) {
+            return None;
+        }
+        let half = size / 2.0;
+        let (left, top) = (x - half, y - half);
+        let (x0, x1) = covered_range(left, x + half);
+        let (y0, y1) = covered_range(top, y + half);
+        let rect = PixelRect { x0, y0, x1, y1 }.intersect(&self.viewport_rect);
+        if rect.is_empty() {
+            return None; // SPEC 3.2 and 2.5
+        }
+        let mut point = ScreenPoint {
+            x,
+            y,
+            z,
+            size,
+            left,
+            top,
+            rect,
+            diffuse: self.layout.diffuse.map_or(crate::color::WHITE, |o| read_u32(v, o)),
+            specular: self.layout.specular.map_or(0, |o| read_u32(v, o)),
+            vertex: index,
+            planes: [PixelPlane::default(); 6],
+            plane_count: 0,
+        };
+        if let Some(c) = clip {
+            if !self.clip_user_planes(pos, c, &mut point) {
+                return None;
+            }
+        }
+        Some(point)
+    }
+
+    /// SPEC 3.3: applies the enabled user clip planes; false when the point is dropped.
+    fn clip_user_planes(&self, pos: [f32; 4], c: [f32; 4], point: &mut ScreenPoint) -> bool {
+        if self.plane_count == 0 {
+            return true;
+        }
+        if !self.scaled_planes {
+            let world = self.world.transform(pos);
+            return self.planes[..self.plane_count]
+                .iter()
+                .all(|p| dot4(*p, world) >= 0.0);
+        }
+        let vp = &self.viewport;
+        let w = c[3];
+        // Clip-space x at column i: ((i - vp.x) * 2 / vp.width - 1) * w; y likewise, flipped.
+        let sx = 2.0 / vp.width as f32;
+        let sy = 2.0 / vp.height as f32;
+        let r = point.rect;
+        for p in &self.planes[..self.plane_count] {
+            let plane = PixelPlane {
+                c0: p[0] * w * (-(vp.x as f32) * sx - 1.0)
+                    + p[1] * w * (1.0 + vp.y as f32 * sy)
+                    + p[2] * c[2]
+                    + p[3] * w,
+                ci: p[0] * w * sx,
+                cj: -p[1] * w * sy,
+            };
+            let corners = [
+                plane.keeps(r.x0, r.y0),
+                plane.keeps(r.x1 - 1, r.y0),
+                plane.keeps(r.x0, r.y1 - 1),
+                plane.keeps(r.x1 - 1, r.y1 - 1),
+            ];
+            if corners.iter().all(|&k| !k) {
+                return false; // a linear function negative at every corner is negative inside
+            }
+            if !corners.iter().all(|&k| k) {
+                point.planes[point.plane_count as usize] = plane;
+                point.plane_count += 1;
+            }
+        }
+        true
+    }
+
+    /// Reads texture coordinate set `set` of vertex `index` (zeros past the set's size, and
+    /// for a set the format does not have).
+    pub fn tex_coords(&self, vertices: &[u8], index: u32, set: usize) -> [f32; 4] {
+        let mut out = [0.0f32; 4];
+        if let Some(Some((offset, n))) = self.layout.tex.get(set) {
+            let base = index as usize * self.layout.stride + offset;
+            for (k, o) in out.iter_mut().take(*n).enumerate() {
+                *o = read_f32(vertices, base + 4 * k);
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spec_4_1_examples_centre_64() {
+        let span = |s: f32| covered_range(64.0 - s / 2.0, 64.0 + s / 2.0);
+        assert_eq!(span(1.0), (64, 65));
+        assert_eq!(span(15.0), (57, 72));
+        assert_eq!(span(30.75), (49, 80));
+        assert_eq!(span(0.0), (64, 64)); // SPEC 2.5: size 0 covers nothing
+        assert_eq!(span(2.0), (63, 65)); // top-left rule: left edge in, right edge out
+    }
+
+    #[test]
+    fn spec_2_3_max_wins_over_min() {
+        assert_eq!(clamp_size(10.0, 20.0, 5.0, 64.0), 5.0);
+        assert_eq!(clamp_size(10.0, 1.0, 100.0, 64.0), 10.0);
+        assert_eq!(clamp_size(100.0, 1.0, 200.0, 64.0), 64.0);
+        assert_eq!(clamp_size(0.5, 1.0, 64.0, 64.0), 1.0);
+    }
+
+    #[test]
+    fn spec_2_3_nan_and_negative_count_as_zero_infinity_clamps_high() {
+        assert_eq!(clamp_size(f32::NAN, 0.0, 64.0, 64.0), 0.0);
+        assert_eq!(clamp_size(-5.0, 0.0, 64.0, 64.0), 0.0);
+        assert_eq!(clamp_size(-5.0, 2.0, 64.0, 64.0), 2.0);
+        assert_eq!(clamp_size(f32::INFINITY, 0.0, 64.0, 8192.0), 64.0);
+        assert_eq!(clamp_size(f32::INFINITY, 0.0, f32::NAN, 8192.0), 8192.0);
+    }
+
+    #[test]
+    fn spec_2_2_scaled_size_formula() {
+        let s = PointScale {
+            a: 1.0,
+            b: 0.0,
+            c: 0.0,
+            viewport_height: 128.0,
+        };
+        assert_eq!(scaled_size(0.25, &s, 7.0), 32.0);
+        let s = PointScale {
+            a: 0.0,
+            b: 0.0,
+            c: 1.0,
+            ..s
+        };
+        assert_eq!(scaled_size(1.0, &s, 4.0), 32.0); // Vh / De
+    }
+
+    #[test]
+    fn spec_4_3_sprite_coordinates_span_the_square() {
+        // size 4 at centre 10: left edge 8, pixel centres 8..11 -> u = 0, .25, .5, .75
+        let u: Vec<f32> = (8..12).map(|k| sprite_coord(k, 8.0, 4.0)).collect();
+        assert_eq!(u, [0.0, 0.25, 0.5, 0.75]);
+        assert_eq!(sprite_lod(16, 8, 4.0), 2.0);
+    }
+}

@@ -1,0 +1,450 @@
+//! Texture files in, render targets out.
+//!
+//! Contract:
+//! - [`dds::load_dds`] and [`png::load_png`] decode a file held in memory into a
+//!   [`Texture`] (full mip chain, D3DCOLOR texels); [`load_texture`] reads a file from disk and
+//!   picks the decoder by the file's signature, or by its extension (`.png`, `.dds`,
+//!   case-insensitive) when the signature is not recognised.
+//! - [`png::encode_png_rgba8`] encodes an RGBA8 image; [`write_png_atomic`] writes one so that
+//!   the target path holds either its old content or the complete new file, never a partial one.
+//! - Every failure is an [`ImageError`] with a one-line message that says what is wrong and where
+//!   (byte offset, header field, file path). No input makes these functions panic, and sizes are
+//!   limited to [`MAX_TEXTURE_SIZE`] per axis before anything large is allocated.
+
+use std::fmt;
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+use pointillist_core::texture::{Texture, TextureError};
+
+pub mod dds;
+pub mod png;
+
+/// Largest width or height of a loaded texture (the core limit, [`pointillist_core::texture`]).
+pub const MAX_TEXTURE_SIZE: u32 = pointillist_core::texture::MAX_TEXTURE_SIZE;
+
+/// Why an image could not be read or written.
+#[derive(Debug)]
+pub enum ImageError {
+    /// The data ends before something it declares.
+    Truncated {
+        /// What was being read ("DDS header", "mip level 2 (4x4)", ...).
+        what: String,
+        /// Byte offset where it starts.
+        offset: usize,
+        /// Bytes it needs from there.
+        needed: usize,
+        /// Length of the data.
+        len: usize,
+    },
+    /// The DDS signature is not "DDS ".
+    BadMagic {
+        /// The first bytes found (fewer than four when the data is shorter).
+        found: Vec<u8>,
+    },
+    /// A header field has an invalid value.
+    BadField {
+        /// Field name as in the format's documentation.
+        field: &'static str,
+        /// Byte offset of the field.
+        offset: usize,
+        /// The value found.
+        value: u32,
+        /// What a valid value looks like.
+        expected: &'static str,
+    },
+    /// A pixel format or feature this crate does not decode.
+    Unsupported {
+        /// The format (FourCC, flags, bit count and masks) or feature.
+        detail: String,
+    },
+    /// Zero width or height.
+    ZeroSize {
+        /// Width declared.
+        width: u32,
+        /// Height declared.
+        height: u32,
+    },
+    /// Width or height over [`MAX_TEXTURE_SIZE`].
+    TooLarge {
+        /// Width declared.
+        width: u32,
+        /// Height declared.
+        height: u32,
+        /// The per-axis limit.
+        limit: u32,
+    },
+    /// The decoded levels do not form a valid texture.
+    Texture(TextureError),
+    /// The PNG decoder rejected the data.
+    PngDecode(::png::DecodingError),
+    /// The PNG encoder failed.
+    PngEncode(::png::EncodingError),
+    /// A pixel buffer does not hold `width * height * 4` bytes.
+    BufferSize {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// Bytes required (`None` when the size overflows).
+        expected: Option<usize>,
+        /// Bytes given.
+        actual: usize,
+    },
+    /// Neither the signature nor the extension names a known format.
+    UnknownFormat,
+    /// A file-system operation failed.
+    Io {
+        /// The operation ("read", "create", "rename", ...).
+        op: &'static str,
+        /// The path it was applied to.
+        path: PathBuf,
+        /// The operating system's error.
+        source: io::Error,
+    },
+    /// An error while loading or writing a given file.
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        source: Box<ImageError>,
+    },
+}
+
+impl fmt::Display for ImageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ImageError::Truncated {
+                what,
+                offset,
+                needed,
+                len,
+            } => write!(
+                f,
+                "truncated data: {what} needs {needed} bytes at offset {offset} but the data is {len} bytes long"
+            ),
+            ImageError::BadMagic { found } => {
+                write!(
+                    f,
+                    "not a DDS file: signature at offset 0 is {found:02X?}, expected \"DDS \""
+                )
+            }
+            ImageError::BadField {
+                field,
+                offset,
+                value,
+                expected,
+            } => write!(
+                f,
+                "invalid header field {field} at offset {offset}: {value} (0x{value:X}), expected {expected}"
+            ),
+            ImageError::Unsupported { detail } => write!(f, "unsupported {detail}"),
+            ImageError::ZeroSize { width, height } => {
+                write!(f, "image size {width}x{height} has a zero dimension")
+            }
+            ImageError::TooLarge {
+                width,
+                height,
+                limit,
+            } => write!(
+                f,
+                "image size {width}x{height} exceeds the limit of {limit} pixels per axis"
+            ),
+            ImageError::Texture(e) => write!(f, "invalid texture: {e}"),
+            ImageError::PngDecode(e) => write!(f, "PNG decoding failed: {e}"),
+            ImageError::PngEncode(e) => write!(f, "PNG encoding failed: {e}"),
+            ImageError::BufferSize {
+                width,
+                height,
+                expected,
+                actual,
+            } => match expected {
+                Some(n) => write!(
+                    f,
+                    "pixel buffer for {width}x{height} RGBA8 needs {n} bytes but has {actual}"
+                ),
+                None => write!(
+                    f,
+                    "pixel buffer for {width}x{height} RGBA8 is too large to address (has {actual} bytes)"
+                ),
+            },
+            ImageError::UnknownFormat => write!(
+                f,
+                "unknown image format: neither a PNG nor a DDS signature, and no .png or .dds extension"
+            ),
+            ImageError::Io { op, path, source } => {
+                write!(f, "cannot {op} {}: {source}", path.display())
+            }
+            ImageError::File { path, source } => write!(f, "{}: {source}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for ImageError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            ImageError::Texture(e) => Some(e),
+            ImageError::PngDecode(e) => Some(e),
+            ImageError::PngEncode(e) => Some(e),
+            ImageError::Io { source, .. } => Some(source),
+            ImageError::File { source, .. } => Some(source.as_ref()),
+            _ => None,
+        }
+    }
+}
+
+impl From<TextureError> for ImageError {
+    fn from(e: TextureError) -> Self {
+        ImageError::Texture(e)
+    }
+}
+
+/// The file formats this crate reads.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Portable Network Graphics.
+    Png,
+    /// DirectDraw Surface.
+    Dds,
+}
+
+impl Format {
+    /// The format whose signature starts `bytes`, if any.
+    pub fn from_magic(bytes: &[u8]) -> Option<Format> {
+        if bytes.starts_with(png::PNG_SIGNATURE) {
+            Some(Format::Png)
+        } else if bytes.starts_with(dds::DDS_MAGIC) {
+            Some(Format::Dds)
+        } else {
+            None
+        }
+    }
+
+    /// The format a path's extension names (`png` or `dds`, case-insensitive), if any.
+    pub fn from_extension(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?;
+        if ext.eq_ignore_ascii_case("png") {
+            Some(Format::Png)
+        } else if ext.eq_ignore_ascii_case("dds") {
+            Some(Format::Dds)
+        } else {
+            None
+        }
+    }
+}
+
+/// Decodes a texture held in memory, choosing the decoder by its signature.
+pub fn decode_texture(bytes: &[u8]) -> Result<Texture, ImageError> {
+    match Format::from_magic(bytes) {
+        Some(Format::Png) => png::load_png(bytes),
+        Some(Format::Dds) => dds::load_dds(bytes),
+        None => Err(ImageError::UnknownFormat),
+    }
+}
+
+/// Reads a texture file: PNG or DDS, recognised by its signature, or else by its extension
+/// (`.png`, `.dds`, case-insensitive). Every error names the path.
+pub fn load_texture(path: &Path) -> Result<Texture, ImageError> {
+    let bytes = fs::read(path).map_err(|source| ImageError::Io {
+        op: "read",
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let format = Format::from_magic(&bytes).or_else(|| Format::from_extension(path));
+    let result = match format {
+        Some(Format::Png) => png::load_png(&bytes),
+        Some(Format::Dds) => dds::load_dds(&bytes),
+        None => Err(ImageError::UnknownFormat),
+    };
+    result.map_err(|e| ImageError::File {
+        path: path.to_path_buf(),
+        source: Box::new(e),
+    })
+}
+
+/// Writes an RGBA8 image as a PNG file atomically: the data goes to a temporary file
+/// `.{name}.tmp-{pid}` in the target's directory, is flushed to disk, and is renamed over the
+/// target. On failure the temporary file is removed and an existing target is left untouched.
+pub fn write_png_atomic(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> Result<(), ImageError> {
+    let with_path = |e: ImageError| ImageError::File {
+        path: path.to_path_buf(),
+        source: Box::new(e),
+    };
+    let data = png::encode_png_rgba8(width, height, rgba).map_err(with_path)?;
+    let name = path.file_name().ok_or_else(|| ImageError::Io {
+        op: "write",
+        path: path.to_path_buf(),
+        source: io::Error::new(io::ErrorKind::InvalidInput, "the path has no file name"),
+    })?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(".tmp-{}", std::process::id()));
+    let tmp = dir.join(tmp_name);
+
+    let io_err = |op: &'static str, p: &Path, source: io::Error| ImageError::Io {
+        op,
+        path: p.to_path_buf(),
+        source,
+    };
+    let mut file = fs::File::create(&tmp).map_err(|e| io_err("create", &tmp, e))?;
+    let written = file
+        .write_all(&data)
+        .map_err(|e| io_err("write", &tmp, e))
+        .and_then(|()| file.sync_all().map_err(|e| io_err("sync", &tmp, e)));
+    drop(file);
+    let result = written.and_then(|()| {
+        fs::rename(&tmp, path).map_err(|source| ImageError::Io {
+            op: "rename a temporary file over",
+            path: path.to_path_buf(),
+            source,
+        })
+    });
+    match result {
+        Ok(()) => {
+            // Make the rename itself durable where the platform allows; failure here does not
+            // undo the write, so it is not reported.
+            if let Ok(d) = fs::File::open(dir) {
+                let _ = d.sync_all();
+            }
+            Ok(())
+        }
+        Err(e) => {
+            let _ = fs::remove_file(&tmp);
+            Err(e)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch_dir(tag: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!(
+            "pointillist-image-{tag}-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn leftovers(dir: &Path) -> Vec<String> {
+        fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.contains(".tmp-"))
+            .collect()
+    }
+
+    const RGBA_2X1: [u8; 8] = [255, 0, 0, 255, 0, 0, 255, 128];
+
+    #[test]
+    fn write_png_atomic_writes_and_replaces() {
+        let dir = scratch_dir("write");
+        let path = dir.join("out.png");
+        write_png_atomic(&path, 2, 1, &RGBA_2X1).unwrap();
+        let t = load_texture(&path).unwrap();
+        assert_eq!(t.levels()[0].texels, vec![0xFFFF_0000, 0x8000_00FF]);
+        write_png_atomic(&path, 1, 1, &[1, 2, 3, 4]).unwrap();
+        let t = load_texture(&path).unwrap();
+        assert_eq!(t.levels()[0].texels, vec![0x0401_0203]);
+        assert!(leftovers(&dir).is_empty());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn write_png_atomic_failure_leaves_target_and_no_temp_file() {
+        let dir = scratch_dir("fail");
+        // The target is a non-empty directory: the rename must fail and change nothing.
+        let target = dir.join("taken.png");
+        fs::create_dir(&target).unwrap();
+        fs::write(target.join("keep"), b"x").unwrap();
+        let e = write_png_atomic(&target, 2, 1, &RGBA_2X1).unwrap_err();
+        assert!(e.to_string().contains("taken.png"), "{e}");
+        assert_eq!(fs::read(target.join("keep")).unwrap(), b"x");
+        assert!(leftovers(&dir).is_empty());
+
+        // A bad buffer fails before touching the file system.
+        let old = dir.join("old.png");
+        fs::write(&old, b"old content").unwrap();
+        let e = write_png_atomic(&old, 2, 2, &RGBA_2X1).unwrap_err();
+        assert!(
+            e.to_string().contains("old.png") && e.to_string().contains("16"),
+            "{e}"
+        );
+        assert_eq!(fs::read(&old).unwrap(), b"old content");
+
+        // A missing directory names the path.
+        let missing = dir.join("no-such-dir").join("x.png");
+        let e = write_png_atomic(&missing, 2, 1, &RGBA_2X1).unwrap_err();
+        assert!(e.to_string().contains("no-such-dir"), "{e}");
+        assert!(leftovers(&dir).is_empty());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn write_png_atomic_in_read_only_directory_keeps_old_file() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = scratch_dir("ro");
+        let path = dir.join("old.png");
+        fs::write(&path, b"old content").unwrap();
+        fs::set_permissions(&dir, fs::Permissions::from_mode(0o555)).unwrap();
+        // Privileged users can write anyway; then there is nothing to test.
+        let probe = dir.join("probe");
+        let privileged = fs::write(&probe, b"").is_ok();
+        let _ = fs::remove_file(&probe);
+        if !privileged {
+            let e = write_png_atomic(&path, 2, 1, &RGBA_2X1).unwrap_err();
+            assert!(e.to_string().contains("old.png"), "{e}");
+            assert_eq!(fs::read(&path).unwrap(), b"old content");
+        }
+        fs::set_permissions(&dir, fs::Permissions::from_mode(0o755)).unwrap();
+        assert!(leftovers(&dir).is_empty());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn load_texture_by_magic_then_extension_and_names_the_path() {
+        let dir = scratch_dir("load");
+        let png_bytes = png::encode_png_rgba8(2, 1, &RGBA_2X1).unwrap();
+        // Signature wins over a misleading extension.
+        let odd = dir.join("really-a-png.dds");
+        fs::write(&odd, &png_bytes).unwrap();
+        assert_eq!(load_texture(&odd).unwrap().width(), 2);
+        // Unknown signature: the extension picks the decoder, whose error names the path.
+        let bad = dir.join("broken.DDS");
+        fs::write(&bad, b"garbage!").unwrap();
+        let e = load_texture(&bad).unwrap_err().to_string();
+        assert!(e.contains("broken.DDS") && e.contains("DDS"), "{e}");
+        let bad = dir.join("broken.Png");
+        fs::write(&bad, b"garbage!").unwrap();
+        let e = load_texture(&bad).unwrap_err().to_string();
+        assert!(e.contains("broken.Png") && e.contains("PNG"), "{e}");
+        let unknown = dir.join("mystery.bin");
+        fs::write(&unknown, b"garbage!").unwrap();
+        let e = load_texture(&unknown).unwrap_err().to_string();
+        assert!(e.contains("mystery.bin") && e.contains("unknown"), "{e}");
+        let e = load_texture(&dir.join("absent.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("absent.png") && e.contains("read"), "{e}");
+        assert!(matches!(
+            decode_texture(b"nothing"),
+            Err(ImageError::UnknownFormat)
+        ));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}

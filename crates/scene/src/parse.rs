@@ -1,0 +1,835 @@
+//! The walk over the spanned TOML tree that turns a scene file into a [`Scene`].
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use pointillist_core::caps::{Caps, VertexProcessing};
+use pointillist_core::device::{TransformType, Viewport};
+use pointillist_core::fvf::{self, Fvf, FvfError, RowValue};
+use pointillist_core::math::Mat4;
+use pointillist_core::states::{
+    Api, EnumType, RenderState, SamplerState, TextureStageState, ValueKind, texture_arg_from_name,
+};
+use pointillist_core::texture::{MAX_TEXTURE_SIZE, Texture};
+use toml::Spanned;
+use toml::de::{DeTable, DeValue};
+
+use crate::reader::{
+    Fields, Source, Value, array, boolean, entries, expected, fields, finite, finite_in, float,
+    floats, index, integer, integer_in, join, number, string, table, u32_value,
+};
+use crate::{Command, MAX_TARGET_SIZE, Scene, SceneError, Step, TargetDesc};
+
+/// The scene format this version reads.
+const FORMAT: i64 = 1;
+/// Texture stages and samplers: 0..=7.
+const MAX_STAGE: usize = 7;
+/// User clip planes: 0..=5.
+const MAX_CLIP_PLANE: i64 = 5;
+
+const TOP_KEYS: &[&str] = &[
+    "format",
+    "api",
+    "target",
+    "caps",
+    "viewport",
+    "transform",
+    "states",
+    "stage",
+    "texture",
+    "clip_plane",
+    "draw",
+];
+const DRAW_KEYS: &[&str] = &[
+    "fvf",
+    "vertices",
+    "file",
+    "states",
+    "stage",
+    "texture",
+    "transform",
+    "viewport",
+    "clip_plane",
+];
+
+/// Parses scene text; `file` names it in errors and anchors relative paths.
+pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
+    let src = Source::new(text, file);
+    let root = DeTable::parse(text).map_err(|e| {
+        let span = e.span().unwrap_or(0..0);
+        src.error(&span, "", e.message())
+    })?;
+    let root: Value<'_> = Spanned::new(root.span(), DeValue::Table(root.into_inner()));
+    let base = file.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut p = Parser {
+        src,
+        base,
+        textures: HashMap::new(),
+        target: TargetDesc {
+            width: 0,
+            height: 0,
+            clear: 0,
+            clear_depth: 0.0,
+        },
+        viewport: None,
+        steps: Vec::new(),
+    };
+    p.scene(&root)
+}
+
+/// The walk's state: what is needed to resolve values and the commands so far.
+struct Parser<'a> {
+    src: Source<'a>,
+    /// The scene file's folder: relative texture and vertex files are found from here.
+    base: PathBuf,
+    /// Textures loaded so far, by resolved path.
+    textures: HashMap<PathBuf, Arc<Texture>>,
+    target: TargetDesc,
+    /// The viewport in force, once the top level has set it.
+    viewport: Option<Viewport>,
+    steps: Vec<Step>,
+}
+
+impl Parser<'_> {
+    fn scene(&mut self, root: &Value<'_>) -> Result<Scene, SceneError> {
+        let src = &self.src;
+        // The format first: a file of another format gets that error and no other.
+        let top = table(src, root, "")?;
+        match top.get("format") {
+            None => {
+                return Err(src.error(&(0..0), "", "missing key `format` (add `format = 1`)"));
+            }
+            Some(v) => {
+                let n = integer(src, v, "format")?;
+                if n != FORMAT {
+                    return Err(src.error(
+                        &v.span(),
+                        "format",
+                        format!("unsupported format {n} (this version reads format {FORMAT})"),
+                    ));
+                }
+            }
+        }
+        let f = fields(src, root, "", TOP_KEYS)?;
+        let api = match f.get("api") {
+            None => Api::default(),
+            Some(v) => {
+                let name = string(src, v, "api")?;
+                match name.to_ascii_lowercase().as_str() {
+                    "d3d9" => Api::D3d9,
+                    "d3d8" => Api::D3d8,
+                    _ => {
+                        return Err(src.error(
+                            &v.span(),
+                            "api",
+                            format!("unknown api `{name}` (expected d3d9 or d3d8)"),
+                        ));
+                    }
+                }
+            }
+        };
+        let target = f.require(src, "target")?;
+        self.target = self.target(target)?;
+        let caps = match f.get("caps") {
+            None => Caps::reference(),
+            Some(v) => self.caps(v)?,
+        };
+        self.push(
+            Command::Clear {
+                color: self.target.clear,
+                depth: self.target.clear_depth,
+            },
+            target,
+            "target",
+        );
+        self.changes(&f, true)?;
+        if let Some(draws) = f.get("draw") {
+            let list = match draws.get_ref() {
+                DeValue::Array(a) => a,
+                _ => return Err(expected(&self.src, draws, "draw", "an array of [[draw]] tables")),
+            };
+            for (i, d) in list.iter().enumerate() {
+                self.draw(d, &index("draw", i))?;
+            }
+        }
+        Ok(Scene {
+            file: self.src.file().to_path_buf(),
+            api,
+            caps,
+            target: self.target,
+            steps: std::mem::take(&mut self.steps),
+        })
+    }
+
+    fn push(&mut self, command: Command, at: &Value<'_>, key: &str) {
+        let origin = self.src.origin(&at.span(), key);
+        self.steps.push(Step { command, origin });
+    }
+
+    fn target(&self, v: &Value<'_>) -> Result<TargetDesc, SceneError> {
+        let src = &self.src;
+        let f = fields(src, v, "target", &["width", "height", "clear", "clear_depth"])?;
+        let side = |key: &str| -> Result<u32, SceneError> {
+            let v = f.require(src, key)?;
+            integer_in(src, v, &f.path(key), 1, MAX_TARGET_SIZE.into(), false).map(|n| n as u32)
+        };
+        Ok(TargetDesc {
+            width: side("width")?,
+            height: side("height")?,
+            clear: match f.get("clear") {
+                None => 0xFF00_0000,
+                Some(v) => u32_value(src, v, &f.path("clear"))?,
+            },
+            clear_depth: match f.get("clear_depth") {
+                None => 1.0,
+                Some(v) => finite_in(src, v, &f.path("clear_depth"), 0.0, 1.0)?,
+            },
+        })
+    }
+
+    fn caps(&self, v: &Value<'_>) -> Result<Caps, SceneError> {
+        let src = &self.src;
+        let f = fields(
+            src,
+            v,
+            "caps",
+            &[
+                "profile",
+                "max_point_size",
+                "per_vertex_point_size",
+                "clip_plane_scaled_points",
+                "vertex_processing",
+            ],
+        )?;
+        let mut caps = match f.get("profile") {
+            None => Caps::reference(),
+            Some(v) => {
+                let name = string(src, v, &f.path("profile"))?;
+                Caps::profile(name).ok_or_else(|| {
+                    src.error(
+                        &v.span(),
+                        &f.path("profile"),
+                        format!(
+                            "unknown caps profile `{name}` (expected one of: {})",
+                            Caps::PROFILES.join(", ")
+                        ),
+                    )
+                })?
+            }
+        };
+        if let Some(v) = f.get("max_point_size") {
+            let path = f.path("max_point_size");
+            let x = finite(src, v, &path)?;
+            if x < 0.0 {
+                return Err(src.error(&v.span(), &path, format!("{x} is negative")));
+            }
+            caps.max_point_size = x;
+        }
+        if let Some(v) = f.get("per_vertex_point_size") {
+            caps.per_vertex_point_size = boolean(src, v, &f.path("per_vertex_point_size"))?;
+        }
+        if let Some(v) = f.get("clip_plane_scaled_points") {
+            caps.clip_plane_scaled_points = boolean(src, v, &f.path("clip_plane_scaled_points"))?;
+        }
+        if let Some(v) = f.get("vertex_processing") {
+            let path = f.path("vertex_processing");
+            let name = string(src, v, &path)?;
+            caps.vertex_processing = match name.to_ascii_lowercase().as_str() {
+                "hardware" => VertexProcessing::Hardware,
+                "software" => VertexProcessing::Software,
+                _ => {
+                    return Err(src.error(
+                        &v.span(),
+                        &path,
+                        format!("unknown vertex processing `{name}` (expected hardware or software)"),
+                    ));
+                }
+            };
+        }
+        Ok(caps)
+    }
+
+    /// The state changes of the top level (`top`) or of one draw, in a fixed order: render
+    /// states, stage states, textures, transforms, viewport, clip planes.
+    fn changes(&mut self, f: &Fields<'_, '_>, top: bool) -> Result<(), SceneError> {
+        if let Some(v) = f.get("states") {
+            self.states(v, &f.path("states"))?;
+        }
+        if let Some(v) = f.get("stage") {
+            self.stages(v, &f.path("stage"))?;
+        }
+        if let Some(v) = f.get("texture") {
+            for (v, path) in tables(&self.src, v, &f.path("texture"))? {
+                self.texture(v, &path)?;
+            }
+        }
+        if let Some(v) = f.get("transform") {
+            self.transforms(v, &f.path("transform"))?;
+        }
+        match f.get("viewport") {
+            Some(v) => self.viewport(v, &f.path("viewport"))?,
+            None if top => {
+                // Always state the viewport, so a replay starts from the whole target.
+                let vp = Viewport {
+                    x: 0,
+                    y: 0,
+                    width: self.target.width,
+                    height: self.target.height,
+                    min_z: 0.0,
+                    max_z: 1.0,
+                };
+                self.viewport = Some(vp);
+                let origin = self.src.origin(&(0..0), "viewport");
+                self.steps.push(Step {
+                    command: Command::Viewport(vp),
+                    origin,
+                });
+            }
+            None => {}
+        }
+        if let Some(v) = f.get("clip_plane") {
+            for (v, path) in tables(&self.src, v, &f.path("clip_plane"))? {
+                self.clip_plane(v, &path)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn states(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
+        let t = table(&self.src, v, path)?;
+        for (k, v) in entries(t) {
+            let path = join(path, k.get_ref());
+            let state = RenderState::from_name(k.get_ref()).ok_or_else(|| {
+                self.src.error(
+                    &k.span(),
+                    &path,
+                    format!("unknown render state `{}`", k.get_ref()),
+                )
+            })?;
+            let name = state.name().unwrap_or_default();
+            let limit = (state == RenderState::ALPHAREF).then_some(255);
+            let value = state_value(&self.src, state.kind(), name, limit, v, &path)?;
+            self.push(Command::RenderState(state, value), v, &path);
+        }
+        Ok(())
+    }
+
+    fn stages(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
+        let t = table(&self.src, v, path)?;
+        for (k, v) in entries(t) {
+            let path = join(path, k.get_ref());
+            let stage = match k.get_ref().parse::<usize>() {
+                Ok(n) if n <= MAX_STAGE => n,
+                Ok(n) => {
+                    return Err(self.src.error(
+                        &k.span(),
+                        &path,
+                        format!("stage {n} is outside 0..={MAX_STAGE}"),
+                    ));
+                }
+                Err(_) => {
+                    return Err(self.src.error(
+                        &k.span(),
+                        &path,
+                        format!(
+                            "expected a stage number 0..={MAX_STAGE}, found `{}`",
+                            k.get_ref()
+                        ),
+                    ));
+                }
+            };
+            let t = table(&self.src, v, &path)?;
+            for (k, v) in entries(t) {
+                let path = join(&path, k.get_ref());
+                let name = k.get_ref().as_ref();
+                let command = if let Some(state) = TextureStageState::from_name(name) {
+                    let canonical = state.name().unwrap_or_default();
+                    let value = state_value(&self.src, state.kind(), canonical, None, v, &path)?;
+                    Command::TextureStageState {
+                        stage,
+                        state,
+                        value,
+                    }
+                } else if let Some(state) = SamplerState::from_name(name) {
+                    let canonical = state.name().unwrap_or_default();
+                    let value = state_value(&self.src, state.kind(), canonical, None, v, &path)?;
+                    Command::SamplerState {
+                        sampler: stage,
+                        state,
+                        value,
+                    }
+                } else {
+                    return Err(self.src.error(
+                        &k.span(),
+                        &path,
+                        format!("unknown texture stage or sampler state `{name}`"),
+                    ));
+                };
+                self.push(command, v, &path);
+            }
+        }
+        Ok(())
+    }
+
+    fn texture(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
+        let src = &self.src;
+        let f = fields(
+            src,
+            v,
+            path,
+            &["stage", "file", "width", "height", "texels", "none"],
+        )?;
+        let stage = f.require(src, "stage")?;
+        let stage = integer_in(src, stage, &f.path("stage"), 0, MAX_STAGE as i64, false)? as usize;
+        let none = match f.get("none") {
+            Some(v) => boolean(src, v, &f.path("none"))?,
+            None => false,
+        };
+        let inline = ["width", "height", "texels"]
+            .into_iter()
+            .find(|k| f.get(k).is_some());
+        let texture = match (f.get("file"), inline, none) {
+            (None, None, true) => None,
+            (Some(file), None, false) => Some(self.texture_file(file, &f.path("file"))?),
+            (None, Some(_), false) => Some(Arc::new(self.inline_texture(&f)?)),
+            (None, None, false) => {
+                return Err(src.error(
+                    &f.span,
+                    path,
+                    "missing key `file` (or inline `width`, `height` and `texels`, or `none = true`)",
+                ));
+            }
+            (Some(_), Some(k), _) => {
+                return Err(src.error(
+                    &f.require(src, k)?.span(),
+                    &f.path(k),
+                    format!("`{k}` cannot be given with `file`"),
+                ));
+            }
+            (file, inline, true) => {
+                let k = if file.is_some() { "file" } else { inline.unwrap_or("file") };
+                return Err(src.error(
+                    &f.require(src, k)?.span(),
+                    &f.path(k),
+                    format!("`{k}` cannot be given with `none = true`"),
+                ));
+            }
+        };
+        self.push(Command::Texture { stage, texture }, v, path);
+        Ok(())
+    }
+
+    /// Loads (once) the texture file named by `v`, relative to the scene file.
+    fn texture_file(&mut self, v: &Value<'_>, path: &str) -> Result<Arc<Texture>, SceneError> {
+        let name = string(&self.src, v, path)?;
+        let file = self.base.join(name);
+        let key = file.canonicalize().unwrap_or_else(|_| file.clone());
+        if let Some(t) = self.textures.get(&key) {
+            return Ok(Arc::clone(t));
+        }
+        check_readable(&self.src, v, path, &file, "texture")?;
+        let texture = pointillist_image::load_texture(&file).map_err(|e| {
+            self.src.error(
+                &v.span(),
+                path,
+                format!("cannot load texture {e}"),
+            )
+        })?;
+        let texture = Arc::new(texture);
+        self.textures.insert(key, Arc::clone(&texture));
+        Ok(texture)
+    }
+
+    fn inline_texture(&self, f: &Fields<'_, '_>) -> Result<Texture, SceneError> {
+        let src = &self.src;
+        let side = |key: &str| -> Result<u32, SceneError> {
+            let v = f.require(src, key)?;
+            integer_in(src, v, &f.path(key), 1, MAX_TEXTURE_SIZE.into(), false).map(|n| n as u32)
+        };
+        let (width, height) = (side("width")?, side("height")?);
+        let v = f.require(src, "texels")?;
+        let path = f.path("texels");
+        let list = array(src, v, &path)?;
+        let expected = width as usize * height as usize;
+        if list.len() != expected {
+            return Err(src.error(
+                &v.span(),
+                &path,
+                format!(
+                    "a {width}x{height} texture needs {expected} texels, found {}",
+                    list.len()
+                ),
+            ));
+        }
+        let texels = list
+            .iter()
+            .enumerate()
+            .map(|(i, t)| u32_value(src, t, &index(&path, i)))
+            .collect::<Result<Vec<u32>, _>>()?;
+        Texture::from_argb(width, height, texels)
+            .map_err(|e| src.error(&f.span, &f.path, e.to_string()))
+    }
+
+    fn transforms(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
+        let f = fields(&self.src, v, path, &["world", "view", "projection"])?;
+        for (key, which) in [
+            ("world", TransformType::World),
+            ("view", TransformType::View),
+            ("projection", TransformType::Projection),
+        ] {
+            if let Some(v) = f.get(key) {
+                let path = f.path(key);
+                let m = matrix(&self.src, v, &path)?;
+                self.push(Command::Transform(which, m), v, &path);
+            }
+        }
+        Ok(())
+    }
+
+    /// A viewport change: given fields replace those of the viewport in force (the whole target
+    /// at the top level); when `x` (`y`) is given without `width` (`height`), the viewport
+    /// extends to the right (bottom) edge of the target.
+    fn viewport(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
+        let src = &self.src;
+        let f = fields(
+            src,
+            v,
+            path,
+            &["x", "y", "width", "height", "min_z", "max_z"],
+        )?;
+        let target = self.target;
+        let mut vp = self.viewport.unwrap_or(Viewport {
+            x: 0,
+            y: 0,
+            width: target.width,
+            height: target.height,
+            min_z: 0.0,
+            max_z: 1.0,
+        });
+        for (pos, size, limit, axis) in [
+            ("x", "width", target.width, "width"),
+            ("y", "height", target.height, "height"),
+        ] {
+            let (vp_pos, vp_size) = if pos == "x" {
+                (&mut vp.x, &mut vp.width)
+            } else {
+                (&mut vp.y, &mut vp.height)
+            };
+            let pos_v = f.get(pos);
+            if let Some(v) = pos_v {
+                let n = integer_in(src, v, &f.path(pos), 0, i64::from(limit) - 1, false)?;
+                *vp_pos = n as u32;
+                *vp_size = limit - *vp_pos;
+            }
+            let size_v = f.get(size);
+            if let Some(v) = size_v {
+                let n = integer_in(src, v, &f.path(size), 1, i64::from(limit), false)?;
+                *vp_size = n as u32;
+            }
+            let end = u64::from(*vp_pos) + u64::from(*vp_size);
+            if end > u64::from(limit) {
+                let (key, at) = match (size_v, pos_v) {
+                    (Some(v), _) => (size, v),
+                    (None, Some(v)) => (pos, v),
+                    (None, None) => (path, v),
+                };
+                let key = if key == path { path.to_owned() } else { f.path(key) };
+                return Err(src.error(
+                    &at.span(),
+                    &key,
+                    format!("{pos} + {size} = {end} exceeds the target {axis} {limit}"),
+                ));
+            }
+        }
+        if let Some(v) = f.get("min_z") {
+            vp.min_z = finite_in(src, v, &f.path("min_z"), 0.0, 1.0)?;
+        }
+        if let Some(v) = f.get("max_z") {
+            vp.max_z = finite_in(src, v, &f.path("max_z"), 0.0, 1.0)?;
+        }
+        if vp.min_z > vp.max_z {
+            let (key, at) = match (f.get("min_z"), f.get("max_z")) {
+                (Some(v), _) => (f.path("min_z"), v),
+                (None, Some(v)) => (f.path("max_z"), v),
+                (None, None) => (path.to_owned(), v),
+            };
+            return Err(src.error(
+                &at.span(),
+                &key,
+                format!("min_z {} is greater than max_z {}", vp.min_z, vp.max_z),
+            ));
+        }
+        self.viewport = Some(vp);
+        self.push(Command::Viewport(vp), v, path);
+        Ok(())
+    }
+
+    fn clip_plane(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
+        let src = &self.src;
+        let f = fields(src, v, path, &["index", "plane"])?;
+        let i = f.require(src, "index")?;
+        let index = integer_in(src, i, &f.path("index"), 0, MAX_CLIP_PLANE, false)? as usize;
+        let plane = floats::<4>(src, f.require(src, "plane")?, &f.path("plane"))?;
+        self.push(Command::ClipPlane { index, plane }, v, path);
+        Ok(())
+    }
+
+    fn draw(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
+        let f = fields(&self.src, v, path, DRAW_KEYS)?;
+        self.changes(&f, false)?;
+        let src = &self.src;
+        let fvf_v = f.require(src, "fvf")?;
+        let fvf_path = f.path("fvf");
+        let fvf = match fvf_v.get_ref() {
+            DeValue::String(s) => Fvf::parse(s),
+            DeValue::Integer(_) => Fvf(u32_value(src, fvf_v, &fvf_path)?).validate(),
+            _ => return Err(expected(src, fvf_v, &fvf_path, "a string")),
+        }
+        .map_err(|e| src.error(&fvf_v.span(), &fvf_path, e.to_string()))?;
+        let vertices = match (f.get("vertices"), f.get("file")) {
+            (Some(rows), None) => encode_rows(src, fvf, rows, &f.path("vertices"))?,
+            (None, Some(file)) => self.vertex_file(fvf, file, &f.path("file"))?,
+            (None, None) => {
+                return Err(src.error(&f.span, path, "missing key `vertices` (or `file`)"));
+            }
+            (Some(_), Some(file)) => {
+                return Err(src.error(
+                    &file.span(),
+                    &f.path("file"),
+                    "`file` cannot be given with `vertices`",
+                ));
+            }
+        };
+        self.push(Command::Draw { fvf, vertices }, v, path);
+        Ok(())
+    }
+
+    fn vertex_file(&self, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<Vec<u8>, SceneError> {
+        let src = &self.src;
+        let name = string(src, v, path)?;
+        let file = self.base.join(name);
+        check_readable(src, v, path, &file, "vertex")?;
+        let bytes = std::fs::read(&file).map_err(|e| {
+            src.error(
+                &v.span(),
+                path,
+                format!("cannot read vertex file `{}`: {e}", file.display()),
+            )
+        })?;
+        let stride = fvf.stride();
+        if bytes.len() % stride != 0 {
+            return Err(src.error(
+                &v.span(),
+                path,
+                format!(
+                    "vertex file `{}` holds {} bytes, not a multiple of the FVF stride {stride}",
+                    file.display(),
+                    bytes.len()
+                ),
+            ));
+        }
+        Ok(bytes)
+    }
+}
+
+/// The tables of `v`, which is one table (path `path`) or an array of tables (paths
+/// `path[i]`).
+fn tables<'t, 'i>(
+    src: &Source<'_>,
+    v: &'t Value<'i>,
+    path: &str,
+) -> Result<Vec<(&'t Value<'i>, String)>, SceneError> {
+    match v.get_ref() {
+        DeValue::Table(_) => Ok(vec![(v, path.to_owned())]),
+        DeValue::Array(list) => Ok(list
+            .iter()
+            .enumerate()
+            .map(|(i, item)| (item, index(path, i)))
+            .collect()),
+        _ => Err(expected(src, v, path, "a table or an array of tables")),
+    }
+}
+
+/// Fails unless `file` exists; `what` is "texture" or "vertex".
+fn check_readable(
+    src: &Source<'_>,
+    v: &Value<'_>,
+    path: &str,
+    file: &Path,
+    what: &str,
+) -> Result<(), SceneError> {
+    match std::fs::metadata(file) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(_) => Err(src.error(
+            &v.span(),
+            path,
+            format!("{what} file `{}` is not a file", file.display()),
+        )),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(src.error(
+            &v.span(),
+            path,
+            format!("{what} file `{}` not found", file.display()),
+        )),
+        Err(e) => Err(src.error(
+            &v.span(),
+            path,
+            format!("cannot read {what} file `{}`: {e}", file.display()),
+        )),
+    }
+}
+
+/// Encodes typed vertex rows as FVF bytes.
+fn encode_rows(src: &Source<'_>, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<Vec<u8>, SceneError> {
+    let rows = array(src, v, path)?;
+    let mut out = Vec::with_capacity(rows.len() * fvf.stride());
+    let mut row = Vec::new();
+    for (r, rv) in rows.iter().enumerate() {
+        let row_path = index(path, r);
+        let cells = array(src, rv, &row_path)?;
+        row.clear();
+        for (c, cell) in cells.iter().enumerate() {
+            let cell_path = index(&row_path, c);
+            row.push(match cell.get_ref() {
+                DeValue::Integer(_) => RowValue::Int(integer(src, cell, &cell_path)?),
+                DeValue::Float(_) => RowValue::Float(number(src, cell, &cell_path)?),
+                _ => return Err(expected(src, cell, &cell_path, "a number")),
+            });
+        }
+        fvf::encode_row(fvf, &row, &mut out).map_err(|e: FvfError| {
+            src.error(&rv.span(), &row_path, e.to_string())
+        })?;
+    }
+    Ok(out)
+}
+
+/// Reads a 4x4 matrix: rows, `"identity"`, or one of the D3DX constructors.
+fn matrix(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Mat4, SceneError> {
+    const MAKERS: &[&str] = &["look_at_lh", "perspective_fov_lh", "ortho_lh"];
+    match v.get_ref() {
+        DeValue::Array(rows) => {
+            if rows.len() != 4 {
+                return Err(src.error(
+                    &v.span(),
+                    path,
+                    format!("expected 4 rows of 4 numbers, found {} rows", rows.len()),
+                ));
+            }
+            let mut m = [[0.0; 4]; 4];
+            for (i, (out, row)) in m.iter_mut().zip(rows.iter()).enumerate() {
+                *out = floats::<4>(src, row, &index(path, i))?;
+            }
+            Ok(Mat4(m))
+        }
+        DeValue::String(s) if s.eq_ignore_ascii_case("identity") => Ok(Mat4::IDENTITY),
+        DeValue::Table(_) => {
+            let f = fields(src, v, path, MAKERS)?;
+            let given: Vec<&str> = MAKERS.iter().copied().filter(|k| f.get(k).is_some()).collect();
+            let [maker] = given[..] else {
+                return Err(src.error(
+                    &v.span(),
+                    path,
+                    format!("expected exactly one of: {}", MAKERS.join(", ")),
+                ));
+            };
+            let mv = f.require(src, maker)?;
+            let mpath = f.path(maker);
+            let m = match maker {
+                "look_at_lh" => {
+                    let a = fields(src, mv, &mpath, &["eye", "at", "up"])?;
+                    let get = |k: &str| -> Result<[f32; 3], SceneError> {
+                        floats::<3>(src, a.require(src, k)?, &a.path(k))
+                    };
+                    Mat4::look_at_lh(get("eye")?, get("at")?, get("up")?)
+                }
+                _ => {
+                    let keys: [&str; 4] = if maker == "ortho_lh" {
+                        ["w", "h", "zn", "zf"]
+                    } else {
+                        ["fovy", "aspect", "zn", "zf"]
+                    };
+                    let a = fields(src, mv, &mpath, &keys)?;
+                    let mut x = [0.0f32; 4];
+                    for (o, k) in x.iter_mut().zip(keys) {
+                        *o = finite(src, a.require(src, k)?, &a.path(k))?;
+                    }
+                    if maker == "ortho_lh" {
+                        Mat4::ortho_lh(x[0], x[1], x[2], x[3])
+                    } else {
+                        Mat4::perspective_fov_lh(x[0], x[1], x[2], x[3])
+                    }
+                }
+            };
+            if m.0.iter().flatten().all(|x| x.is_finite()) {
+                Ok(m)
+            } else {
+                Err(src.error(
+                    &mv.span(),
+                    &mpath,
+                    "these parameters give a matrix with non-finite entries",
+                ))
+            }
+        }
+        _ => Err(expected(
+            src,
+            v,
+            path,
+            "an array of 4 rows, a table or \"identity\"",
+        )),
+    }
+}
+
+/// Reads a state value by its kind; `{ bits = N }` gives the raw 32 bits of any state. `name`
+/// is the state's D3D name, `limit` an upper bound for integer states (ALPHAREF: 255).
+fn state_value(
+    src: &Source<'_>,
+    kind: ValueKind,
+    name: &str,
+    limit: Option<i64>,
+    v: &Value<'_>,
+    path: &str,
+) -> Result<u32, SceneError> {
+    if let DeValue::Table(_) = v.get_ref() {
+        let f = fields(src, v, path, &["bits"])?;
+        return u32_value(src, f.require(src, "bits")?, &f.path("bits"));
+    }
+    match kind {
+        ValueKind::Float => float(src, v, path).map(f32::to_bits),
+        ValueKind::Bool => boolean(src, v, path).map(u32::from),
+        ValueKind::Color => u32_value(src, v, path),
+        ValueKind::Int => match limit {
+            Some(hi) => integer_in(src, v, path, 0, hi, false).map(|n| n as u32),
+            None => u32_value(src, v, path),
+        },
+        ValueKind::Enum(e) => match v.get_ref() {
+            DeValue::String(s) => e.value_from_name(s).ok_or_else(|| {
+                let names: Vec<&str> = e.names().iter().map(|(n, _)| *n).collect();
+                src.error(
+                    &v.span(),
+                    path,
+                    format!(
+                        "unknown {name} value `{s}` (expected one of: {})",
+                        names.join(", ")
+                    ),
+                )
+            }),
+            DeValue::Boolean(b) if e == EnumType::ZBufferType => Ok(u32::from(*b)),
+            _ if e == EnumType::ZBufferType => Err(expected(src, v, path, "true, false or a name")),
+            _ => Err(expected(src, v, path, "a name (a string)")),
+        },
+        ValueKind::TextureArg => {
+            let s = string(src, v, path)?;
+            texture_arg_from_name(s).ok_or_else(|| {
+                src.error(
+                    &v.span(),
+                    path,
+                    format!(
+                        "unknown texture argument `{s}` (expected DIFFUSE, CURRENT, TEXTURE, \
+                         TFACTOR, SPECULAR, TEMP or CONSTANT, optionally with | COMPLEMENT \
+                         and | ALPHAREPLICATE)"
+                    ),
+                )
+            })
+        }
+    }
+}
