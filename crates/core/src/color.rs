@@ -27,7 +27,12 @@ pub fn f32_to_unorm8(v: f32) -> u8 {
 #[inline]
 pub fn unpack(argb: u32) -> Rgba {
     let [a, r, g, b] = argb.to_be_bytes();
-    [unorm8_to_f32(r), unorm8_to_f32(g), unorm8_to_f32(b), unorm8_to_f32(a)]
+    [
+        unorm8_to_f32(r),
+        unorm8_to_f32(g),
+        unorm8_to_f32(b),
+        unorm8_to_f32(a),
+    ]
 }
 
 /// Packs float channels into a D3DCOLOR (saturating, round to nearest).

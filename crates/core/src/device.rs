@@ -12,8 +12,8 @@ use crate::caps::Caps;
 use crate::fvf::{Fvf, FvfError};
 use crate::math::Mat4;
 use crate::states::{
-    Api, Blend, BlendOp, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter,
-    TextureOp, TextureStageState, ZBufferType,
+    Api, Blend, BlendOp, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureOp,
+    TextureStageState, ZBufferType,
 };
 use crate::texture::Texture;
 
@@ -279,7 +279,7 @@ impl DeviceState {
 }
 
 /// The render target read back: `width * height` D3DCOLORs and depths, rows top to bottom.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct RenderTarget {
     /// Width in pixels.
     pub width: u32,
@@ -320,13 +320,22 @@ impl RenderTarget {
 /// What a backend implements. The device validates every call before it reaches here.
 pub trait Backend {
     /// Creates the target, cleared.
-    fn create_target(&mut self, width: u32, height: u32, color: u32, depth: f32)
-    -> Result<(), DeviceError>;
+    fn create_target(
+        &mut self,
+        width: u32,
+        height: u32,
+        color: u32,
+        depth: f32,
+    ) -> Result<(), DeviceError>;
     /// Clears the whole target (D3DCLEAR_TARGET | D3DCLEAR_ZBUFFER).
     fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError>;
     /// Draws `vertices` (whole vertices of format `fvf`) as a point list with `state`.
-    fn draw_points(&mut self, state: &DeviceState, fvf: Fvf, vertices: &[u8])
-    -> Result<(), DeviceError>;
+    fn draw_points(
+        &mut self,
+        state: &DeviceState,
+        fvf: Fvf,
+        vertices: &[u8],
+    ) -> Result<(), DeviceError>;
     /// Reads the target back.
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError>;
 }
@@ -383,7 +392,8 @@ impl<B: Backend> Device<B> {
     /// points is noted once (see [`Device::take_notices`]).
     pub fn set_render_state(&mut self, s: RenderState, value: impl StateValue) {
         let Some(slot) = self.state.render_states.get_mut(s.0 as usize) else {
-            self.notices.push(format!("unknown render state {} ignored", s.0));
+            self.notices
+                .push(format!("unknown render state {} ignored", s.0));
             return;
         };
         *slot = value.to_bits();
@@ -428,7 +438,11 @@ impl<B: Backend> Device<B> {
 
     /// GetTextureStageState.
     pub fn texture_stage_state(&self, stage: usize, s: TextureStageState) -> Option<u32> {
-        self.state.stage_states.get(stage)?.get(s.0 as usize).copied()
+        self.state
+            .stage_states
+            .get(stage)?
+            .get(s.0 as usize)
+            .copied()
     }
 
     /// SetSamplerState.
@@ -458,7 +472,11 @@ impl<B: Backend> Device<B> {
 
     /// GetSamplerState.
     pub fn sampler_state(&self, sampler: usize, s: SamplerState) -> Option<u32> {
-        self.state.sampler_states.get(sampler)?.get(s.0 as usize).copied()
+        self.state
+            .sampler_states
+            .get(sampler)?
+            .get(s.0 as usize)
+            .copied()
     }
 
     /// SetTexture; `None` unbinds.

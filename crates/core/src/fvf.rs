@@ -373,7 +373,9 @@ pub fn encode_row(fvf: Fvf, row: &[RowValue], out: &mut Vec<u8>) -> Result<(), F
                 (Field::Diffuse | Field::Specular, RowValue::Int(v)) => u32::try_from(v)
                     .map_err(|_| bad(format!("colour {v} is outside 0..=0xFFFFFFFF")))?,
                 (Field::Diffuse | Field::Specular, RowValue::Float(v)) => {
-                    return Err(bad(format!("colour must be an integer D3DCOLOR, found {v}")));
+                    return Err(bad(format!(
+                        "colour must be an integer D3DCOLOR, found {v}"
+                    )));
                 }
                 (_, RowValue::Float(v)) => (v as f32).to_bits(),
                 (_, RowValue::Int(v)) => (v as f32).to_bits(),
@@ -403,7 +405,10 @@ mod tests {
             FvfError::UnknownName("COLOR".into())
         );
         assert_eq!(Fvf::parse("DIFFUSE").unwrap_err(), FvfError::NoPosition);
-        assert_eq!(Fvf::parse("0x1002").unwrap_err(), FvfError::UnknownBits(0x1000));
+        assert_eq!(
+            Fvf::parse("0x1002").unwrap_err(),
+            FvfError::UnknownBits(0x1000)
+        );
         assert_eq!(Fvf::parse("0x006").unwrap_err(), FvfError::BlendWeights);
         assert!(Fvf::parse("XYZ | TEX9").is_err());
     }

@@ -153,7 +153,10 @@ impl Mat4 {
         for (i, v) in inv.iter().enumerate() {
             out[i / 4][i % 4] = (v / det) as f32;
         }
-        out.iter().flatten().all(|v| v.is_finite()).then_some(Mat4(out))
+        out.iter()
+            .flatten()
+            .all(|v| v.is_finite())
+            .then_some(Mat4(out))
     }
 
     /// D3DXMatrixLookAtLH: a left-handed view matrix from the eye towards `at`.
@@ -226,8 +229,14 @@ mod tests {
     #[test]
     fn spec_1_look_at_puts_the_target_on_plus_z() {
         let v = Mat4::look_at_lh([0.0, 0.0, -5.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
-        assert!(close(v.transform([0.0, 0.0, 0.0, 1.0]), [0.0, 0.0, 5.0, 1.0]));
-        assert!(close(v.transform([1.0, 0.0, 0.0, 1.0]), [1.0, 0.0, 5.0, 1.0]));
+        assert!(close(
+            v.transform([0.0, 0.0, 0.0, 1.0]),
+            [0.0, 0.0, 5.0, 1.0]
+        ));
+        assert!(close(
+            v.transform([1.0, 0.0, 0.0, 1.0]),
+            [1.0, 0.0, 5.0, 1.0]
+        ));
     }
 
     #[test]
@@ -245,8 +254,14 @@ mod tests {
     #[test]
     fn spec_1_ortho_maps_the_volume_to_clip_space() {
         let o = Mat4::ortho_lh(4.0, 2.0, 1.0, 3.0);
-        assert!(close(o.transform([2.0, 1.0, 1.0, 1.0]), [1.0, 1.0, 0.0, 1.0]));
-        assert!(close(o.transform([-2.0, -1.0, 3.0, 1.0]), [-1.0, -1.0, 1.0, 1.0]));
+        assert!(close(
+            o.transform([2.0, 1.0, 1.0, 1.0]),
+            [1.0, 1.0, 0.0, 1.0]
+        ));
+        assert!(close(
+            o.transform([-2.0, -1.0, 3.0, 1.0]),
+            [-1.0, -1.0, 1.0, 1.0]
+        ));
     }
 
     #[test]

@@ -171,13 +171,13 @@ impl PixelSetup {
         let mut stage_count = 0;
         for (i, stage) in stages.iter_mut().enumerate() {
             let ts = |s: TextureStageState| state.stage_state(i, s);
-            let color_op = TextureOp::from_raw(ts(TextureStageState::COLOROP))
-                .unwrap_or(TextureOp::Disable);
+            let color_op =
+                TextureOp::from_raw(ts(TextureStageState::COLOROP)).unwrap_or(TextureOp::Disable);
             if color_op == TextureOp::Disable {
                 break;
             }
-            let alpha_op = TextureOp::from_raw(ts(TextureStageState::ALPHAOP))
-                .unwrap_or(TextureOp::Disable);
+            let alpha_op =
+                TextureOp::from_raw(ts(TextureStageState::ALPHAOP)).unwrap_or(TextureOp::Disable);
             let color_args = [
                 ts(TextureStageState::COLORARG0),
                 ts(TextureStageState::COLORARG1),
@@ -244,10 +244,15 @@ impl PixelSetup {
         });
         let cw = rs(RenderState::COLORWRITEENABLE);
         // D3DCOLORWRITEENABLE_RED=1, GREEN=2, BLUE=4, ALPHA=8
-        let write_mask = [(1, 0x00FF_0000), (2, 0x0000_FF00), (4, 0x0000_00FF), (8, 0xFF00_0000)]
-            .iter()
-            .filter(|(bit, _)| cw & bit != 0)
-            .fold(0u32, |m, (_, channel)| m | channel);
+        let write_mask = [
+            (1, 0x00FF_0000),
+            (2, 0x0000_FF00),
+            (4, 0x0000_00FF),
+            (8, 0xFF00_0000),
+        ]
+        .iter()
+        .filter(|(bit, _)| cw & bit != 0)
+        .fold(0u32, |m, (_, channel)| m | channel);
         PixelSetup {
             stages,
             stage_count,
@@ -314,14 +319,15 @@ impl PixelSetup {
                 let [a0, a1, a2] = st.color_args.map(fetch);
                 color_op(st.color_op, a0, a1, a2, &k)
             };
-            let alpha = if st.color_op == TextureOp::DotProduct3 && !passes(st.color_op, &st.color_args) {
-                rgb[0] // DOTPRODUCT3 replicates into alpha
-            } else if st.alpha_op == TextureOp::Disable || passes(st.alpha_op, &st.alpha_args) {
-                current[3]
-            } else {
-                let [a0, a1, a2] = st.alpha_args.map(|a| fetch(a)[3]);
-                alpha_op(st.alpha_op, a0, a1, a2, &k)
-            };
+            let alpha =
+                if st.color_op == TextureOp::DotProduct3 && !passes(st.color_op, &st.color_args) {
+                    rgb[0] // DOTPRODUCT3 replicates into alpha
+                } else if st.alpha_op == TextureOp::Disable || passes(st.alpha_op, &st.alpha_args) {
+                    current[3]
+                } else {
+                    let [a0, a1, a2] = st.alpha_args.map(|a| fetch(a)[3]);
+                    alpha_op(st.alpha_op, a0, a1, a2, &k)
+                };
             let result = [rgb[0], rgb[1], rgb[2], alpha].map(|c| c.clamp(0.0, 1.0));
             if st.result_to_temp {
                 temp = result;
@@ -330,8 +336,8 @@ impl PixelSetup {
             }
         }
         if self.specular {
-            for c in 0..3 {
-                current[c] = (current[c] + input.specular[c]).min(1.0);
+            for (c, s) in current.iter_mut().zip(&input.specular).take(3) {
+                *c = (*c + s).min(1.0);
             }
         }
         current
@@ -531,7 +537,10 @@ mod tests {
     fn spec_5_5_src_alpha_over() {
         let b = blend_with(Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Add);
         // half-transparent white over black: 0.5*1 + 0.5*0 = 128
-        assert_eq!(blend(&b, 0x80FF_FFFF, 0xFF00_0000) & 0x00FF_FFFF, 0x0080_8080);
+        assert_eq!(
+            blend(&b, 0x80FF_FFFF, 0xFF00_0000) & 0x00FF_FFFF,
+            0x0080_8080
+        );
         let b = blend_with(Blend::One, Blend::One, BlendOp::RevSubtract);
         assert_eq!(blend(&b, 0x0010_1010, 0x0030_3030), 0x0020_2020);
         let b = blend_with(Blend::Zero, Blend::Zero, BlendOp::Max);
@@ -540,7 +549,10 @@ mod tests {
 
     #[test]
     fn spec_5_6_write_mask_keeps_other_channels() {
-        assert_eq!(write_masked(0x00FF_0000, 0x1122_3344, 0xAABB_CCDD), 0xAA22_CCDD);
+        assert_eq!(
+            write_masked(0x00FF_0000, 0x1122_3344, 0xAABB_CCDD),
+            0xAA22_CCDD
+        );
     }
 
     #[test]

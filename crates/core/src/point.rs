@@ -194,14 +194,13 @@ impl PointSetup {
         let pretransformed = fvf.is_pretransformed();
         let vp = state.viewport;
         let clipping = rs(RenderState::CLIPPING) != 0;
-        let scale = (rs(RenderState::POINTSCALEENABLE) != 0 && !pretransformed).then(|| {
-            PointScale {
+        let scale =
+            (rs(RenderState::POINTSCALEENABLE) != 0 && !pretransformed).then(|| PointScale {
                 a: rf(RenderState::POINTSCALE_A),
                 b: rf(RenderState::POINTSCALE_B),
                 c: rf(RenderState::POINTSCALE_C),
                 viewport_height: vp.height as f32,
-            }
-        });
+            });
         let world_view = state.world.mul(&state.view);
         let view_projection = state.view.mul(&state.projection);
         let clip_from_world_inverse = view_projection.inverse();
@@ -334,7 +333,10 @@ impl PointSetup {
             left,
             top,
             rect,
-            diffuse: self.layout.diffuse.map_or(crate::color::WHITE, |o| read_u32(v, o)),
+            diffuse: self
+                .layout
+                .diffuse
+                .map_or(crate::color::WHITE, |o| read_u32(v, o)),
             specular: self.layout.specular.map_or(0, |o| read_u32(v, o)),
             vertex: index,
             planes: [PixelPlane::default(); 6],

@@ -290,7 +290,8 @@ pub struct SamplerDesc {
     pub address_v: TextureAddress,
     /// BORDERCOLOR, a D3DCOLOR.
     pub border: u32,
-    /// MAGFILTER (POINT; LINEAR, ANISOTROPIC, PYRAMIDALQUAD, GAUSSIANQUAD filter linearly).
+    /// MAGFILTER: NONE and POINT take the nearest texel; LINEAR, ANISOTROPIC, PYRAMIDALQUAD
+    /// and GAUSSIANQUAD filter linearly.
     pub mag: TextureFilter,
     /// MINFILTER (as `mag`).
     pub min: TextureFilter,

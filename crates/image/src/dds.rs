@@ -286,7 +286,7 @@ fn decode_color_block(blk: &[u8], dxt1: bool, out: &mut [u32; 16]) {
         [
             argb(255, e0),
             argb(255, e1),
-            argb(255, mix(|a, b| (a + b + 1) / 2)),
+            argb(255, mix(|a, b| (a + b).div_ceil(2))),
             0,
         ]
     };
@@ -506,9 +506,8 @@ pub fn load_dds(bytes: &[u8]) -> Result<Texture, ImageError> {
     let mut offset = DATA_OFFSET;
     for i in 0..count {
         let size = format.level_size(w, h);
-        let end = size.and_then(|s| offset.checked_add(s));
-        match (size, end) {
-            (Some(size), Some(end)) if end <= len => spans.push((w, h, offset, end)),
+        let end = match size.and_then(|s| offset.checked_add(s)) {
+            Some(end) if end <= len => end,
             _ => {
                 return Err(ImageError::Truncated {
                     what: format!("DDS mip level {i} ({w}x{h})"),
@@ -517,8 +516,9 @@ pub fn load_dds(bytes: &[u8]) -> Result<Texture, ImageError> {
                     len,
                 });
             }
-        }
-        offset = end.unwrap_or(offset);
+        };
+        spans.push((w, h, offset, end));
+        offset = end;
         (w, h) = ((w / 2).max(1), (h / 2).max(1));
     }
     let levels = spans

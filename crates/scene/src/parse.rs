@@ -16,8 +16,8 @@ use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 use crate::reader::{
-    Fields, Source, Value, array, boolean, entries, expected, fields, finite, finite_in, float,
-    floats, index, integer, integer_in, join, number, string, table, u32_value,
+    Fields, Source, Value, array, boolean, count, entries, expected, fields, finite, finite_in,
+    float, floats, index, integer, integer_in, join, number, string, table, u32_value,
 };
 use crate::{Command, MAX_TARGET_SIZE, Scene, SceneError, Step, TargetDesc};
 
@@ -147,7 +147,14 @@ impl Parser<'_> {
         if let Some(draws) = f.get("draw") {
             let list = match draws.get_ref() {
                 DeValue::Array(a) => a,
-                _ => return Err(expected(&self.src, draws, "draw", "an array of [[draw]] tables")),
+                _ => {
+                    return Err(expected(
+                        &self.src,
+                        draws,
+                        "draw",
+                        "an array of [[draw]] tables",
+                    ));
+                }
             };
             for (i, d) in list.iter().enumerate() {
                 self.draw(d, &index("draw", i))?;
@@ -169,7 +176,12 @@ impl Parser<'_> {
 
     fn target(&self, v: &Value<'_>) -> Result<TargetDesc, SceneError> {
         let src = &self.src;
-        let f = fields(src, v, "target", &["width", "height", "clear", "clear_depth"])?;
+        let f = fields(
+            src,
+            v,
+            "target",
+            &["width", "height", "clear", "clear_depth"],
+        )?;
         let side = |key: &str| -> Result<u32, SceneError> {
             let v = f.require(src, key)?;
             integer_in(src, v, &f.path(key), 1, MAX_TARGET_SIZE.into(), false).map(|n| n as u32)
@@ -242,7 +254,9 @@ impl Parser<'_> {
                     return Err(src.error(
                         &v.span(),
                         &path,
-                        format!("unknown vertex processing `{name}` (expected hardware or software)"),
+                        format!(
+                            "unknown vertex processing `{name}` (expected hardware or software)"
+                        ),
                     ));
                 }
             };
@@ -408,7 +422,11 @@ impl Parser<'_> {
                 ));
             }
             (file, inline, true) => {
-                let k = if file.is_some() { "file" } else { inline.unwrap_or("file") };
+                let k = if file.is_some() {
+                    "file"
+                } else {
+                    inline.unwrap_or("file")
+                };
                 return Err(src.error(
                     &f.require(src, k)?.span(),
                     &f.path(k),
@@ -430,11 +448,8 @@ impl Parser<'_> {
         }
         check_readable(&self.src, v, path, &file, "texture")?;
         let texture = pointillist_image::load_texture(&file).map_err(|e| {
-            self.src.error(
-                &v.span(),
-                path,
-                format!("cannot load texture {e}"),
-            )
+            self.src
+                .error(&v.span(), path, format!("cannot load texture {e}"))
         })?;
         let texture = Arc::new(texture);
         self.textures.insert(key, Arc::clone(&texture));
@@ -529,15 +544,10 @@ impl Parser<'_> {
             }
             let end = u64::from(*vp_pos) + u64::from(*vp_size);
             if end > u64::from(limit) {
-                let (key, at) = match (size_v, pos_v) {
-                    (Some(v), _) => (size, v),
-                    (None, Some(v)) => (pos, v),
-                    (None, None) => (path, v),
-                };
-                let key = if key == path { path.to_owned() } else { f.path(key) };
+                // Only a new size can overrun: a new position alone takes the rest of the target.
                 return Err(src.error(
-                    &at.span(),
-                    &key,
+                    &size_v.unwrap_or(v).span(),
+                    &f.path(size),
                     format!("{pos} + {size} = {end} exceeds the target {axis} {limit}"),
                 ));
             }
@@ -549,11 +559,13 @@ impl Parser<'_> {
             vp.max_z = finite_in(src, v, &f.path("max_z"), 0.0, 1.0)?;
         }
         if vp.min_z > vp.max_z {
+            // One of them is new: the viewport in force was valid.
             let (key, at) = match (f.get("min_z"), f.get("max_z")) {
-                (Some(v), _) => (f.path("min_z"), v),
-                (None, Some(v)) => (f.path("max_z"), v),
-                (None, None) => (path.to_owned(), v),
+                (Some(v), _) => ("min_z", v),
+                (None, Some(v)) => ("max_z", v),
+                (None, None) => ("min_z", v),
             };
+            let key = f.path(key);
             return Err(src.error(
                 &at.span(),
                 &key,
@@ -680,7 +692,12 @@ fn check_readable(
 }
 
 /// Encodes typed vertex rows as FVF bytes.
-fn encode_rows(src: &Source<'_>, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<Vec<u8>, SceneError> {
+fn encode_rows(
+    src: &Source<'_>,
+    fvf: Fvf,
+    v: &Value<'_>,
+    path: &str,
+) -> Result<Vec<u8>, SceneError> {
     let rows = array(src, v, path)?;
     let mut out = Vec::with_capacity(rows.len() * fvf.stride());
     let mut row = Vec::new();
@@ -696,9 +713,8 @@ fn encode_rows(src: &Source<'_>, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<
                 _ => return Err(expected(src, cell, &cell_path, "a number")),
             });
         }
-        fvf::encode_row(fvf, &row, &mut out).map_err(|e: FvfError| {
-            src.error(&rv.span(), &row_path, e.to_string())
-        })?;
+        fvf::encode_row(fvf, &row, &mut out)
+            .map_err(|e: FvfError| src.error(&rv.span(), &row_path, e.to_string()))?;
     }
     Ok(out)
 }
@@ -712,7 +728,10 @@ fn matrix(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Mat4, SceneErro
                 return Err(src.error(
                     &v.span(),
                     path,
-                    format!("expected 4 rows of 4 numbers, found {} rows", rows.len()),
+                    format!(
+                        "expected 4 rows of 4 numbers, found {}",
+                        count(rows.len(), "row")
+                    ),
                 ));
             }
             let mut m = [[0.0; 4]; 4];
@@ -724,7 +743,11 @@ fn matrix(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Mat4, SceneErro
         DeValue::String(s) if s.eq_ignore_ascii_case("identity") => Ok(Mat4::IDENTITY),
         DeValue::Table(_) => {
             let f = fields(src, v, path, MAKERS)?;
-            let given: Vec<&str> = MAKERS.iter().copied().filter(|k| f.get(k).is_some()).collect();
+            let given: Vec<&str> = MAKERS
+                .iter()
+                .copied()
+                .filter(|k| f.get(k).is_some())
+                .collect();
             let [maker] = given[..] else {
                 return Err(src.error(
                     &v.span(),
@@ -740,7 +763,26 @@ fn matrix(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Mat4, SceneErro
                     let get = |k: &str| -> Result<[f32; 3], SceneError> {
                         floats::<3>(src, a.require(src, k)?, &a.path(k))
                     };
-                    Mat4::look_at_lh(get("eye")?, get("at")?, get("up")?)
+                    let (eye, at, up) = (get("eye")?, get("at")?, get("up")?);
+                    let dir = [at[0] - eye[0], at[1] - eye[1], at[2] - eye[2]];
+                    let side = [
+                        up[1] * dir[2] - up[2] * dir[1],
+                        up[2] * dir[0] - up[0] * dir[2],
+                        up[0] * dir[1] - up[1] * dir[0],
+                    ];
+                    if dir == [0.0; 3] {
+                        let v = a.require(src, "at")?;
+                        return Err(src.error(&v.span(), &a.path("at"), "`at` equals `eye`"));
+                    }
+                    if side == [0.0; 3] {
+                        let v = a.require(src, "up")?;
+                        return Err(src.error(
+                            &v.span(),
+                            &a.path("up"),
+                            "`up` is parallel to the view direction `at - eye`",
+                        ));
+                    }
+                    Mat4::look_at_lh(eye, at, up)
                 }
                 _ => {
                     let keys: [&str; 4] = if maker == "ortho_lh" {

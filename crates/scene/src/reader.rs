@@ -31,6 +31,11 @@ impl<'a> Source<'a> {
         }
     }
 
+    /// The text at `span`.
+    pub(crate) fn text(&self, span: &Range<usize>) -> &'a str {
+        self.text.get(span.clone()).unwrap_or_default()
+    }
+
     pub(crate) fn file(&self) -> &'a Path {
         self.file
     }
@@ -81,6 +86,15 @@ pub(crate) fn join(path: &str, key: &str) -> String {
 /// `path[index]`.
 pub(crate) fn index(path: &str, index: usize) -> String {
     format!("{path}[{index}]")
+}
+
+/// "1 value", "3 values".
+pub(crate) fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("{n} {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
 }
 
 /// "a string", "an integer", ...: what a value is, for "expected X, found Y" messages.
@@ -251,9 +265,12 @@ pub(crate) fn number(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<f64,
     match v.get_ref() {
         DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
             Ok(n) => Ok(n as f64),
-            Err(_) => i.as_str().parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| {
-                src.error(&v.span(), path, format!("integer {i} is too large"))
-            }),
+            Err(_) => i
+                .as_str()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| src.error(&v.span(), path, format!("integer {i} is too large"))),
         },
         DeValue::Float(f) => {
             let text = f.as_str();
@@ -275,7 +292,10 @@ pub(crate) fn float(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<f32, 
         return Err(src.error(
             &v.span(),
             path,
-            format!("{x} is outside the range of a 32-bit float"),
+            format!(
+                "{} is outside the range of a 32-bit float",
+                src.text(&v.span())
+            ),
         ));
     }
     Ok(y)
@@ -307,11 +327,7 @@ pub(crate) fn finite_in(
     if (lo..=hi).contains(&x) {
         Ok(x)
     } else {
-        Err(src.error(
-            &v.span(),
-            path,
-            format!("{x} is outside {lo:?}..={hi:?}"),
-        ))
+        Err(src.error(&v.span(), path, format!("{x} is outside {lo:?}..={hi:?}")))
     }
 }
 
@@ -326,7 +342,10 @@ pub(crate) fn floats<const N: usize>(
         return Err(src.error(
             &v.span(),
             path,
-            format!("expected an array of {N} numbers, found {} values", a.len()),
+            format!(
+                "expected an array of {N} numbers, found {}",
+                count(a.len(), "value")
+            ),
         ));
     }
     let mut out = [0.0; N];
