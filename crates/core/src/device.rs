@@ -11,6 +11,7 @@ use std::sync::Arc;
 use crate::caps::Caps;
 use crate::fvf::{Fvf, FvfError};
 use crate::math::Mat4;
+use crate::pixel::is_unsupported_op;
 use crate::states::{
     Api, Blend, BlendOp, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureOp,
     TextureStageState, ZBufferType,
@@ -232,8 +233,11 @@ impl DeviceState {
     /// The state of a freshly created device (SPEC 2.6 defaults).
     pub fn new(api: Api, caps: Caps, width: u32, height: u32) -> DeviceState {
         let mut render_states = [0u32; RenderState::COUNT];
+        // POINTSIZE_MAX defaults to the max_point_size the pipeline applies (SPEC 2.6): with
+        // software vertex processing, the emulator's limit, not the device's (SPEC 6).
+        let max_point_size = caps.effective().max_point_size;
         for &s in RenderState::all() {
-            render_states[s.0 as usize] = s.default_value(api, caps.max_point_size);
+            render_states[s.0 as usize] = s.default_value(api, max_point_size);
         }
         let mut stage_states = [[0u32; TextureStageState::COUNT]; MAX_STAGES];
         let mut sampler_states = [[0u32; SamplerState::COUNT]; MAX_STAGES];
@@ -426,6 +430,15 @@ impl<B: Backend> Device<B> {
             .get_mut(s.0 as usize)
             .ok_or(DeviceError::Stage(stage))?;
         *slot = value.to_bits();
+        if matches!(s, TextureStageState::COLOROP | TextureStageState::ALPHAOP) {
+            if let Some(op) = TextureOp::from_raw(*slot).filter(|&op| is_unsupported_op(op)) {
+                self.notices.push(format!(
+                    "texture op {} on stage {stage} is not emulated; the stage passes CURRENT \
+                     through",
+                    op.name()
+                ));
+            }
+        }
         if !s.affects_points() && !self.noticed_stage[s.0 as usize] {
             self.noticed_stage[s.0 as usize] = true;
             self.notices.push(format!(

@@ -66,6 +66,25 @@ pub fn is_unsupported_op(op: TextureOp) -> bool {
     )
 }
 
+impl StageSetup {
+    /// SPEC 5.1: true when the colour operation passes CURRENT's colour through (an operation
+    /// pointillist does not emulate, or one reading TEXTURE with no texture bound).
+    pub fn color_passes(&self) -> bool {
+        op_passes(self.color_op, &self.color_args, self.has_texture)
+    }
+
+    /// SPEC 5.1: true when the alpha operation passes CURRENT's alpha through, as
+    /// [`StageSetup::color_passes`] (ALPHAOP DISABLE is handled by the cascade itself).
+    pub fn alpha_passes(&self) -> bool {
+        op_passes(self.alpha_op, &self.alpha_args, self.has_texture)
+    }
+}
+
+/// SPEC 5.1: an operation not emulated, or one reading an unbound texture, passes CURRENT.
+fn op_passes(op: TextureOp, args: &[u32; 3], has_texture: bool) -> bool {
+    is_unsupported_op(op) || (!has_texture && reads_texture(op, args))
+}
+
 /// Depth test and write (SPEC 5.4).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 pub struct DepthSetup {
@@ -310,24 +329,20 @@ impl PixelSetup {
                 current: current[3],
             };
             // SPEC 5.1: an operation reading an unbound texture passes CURRENT through.
-            let passes = |op: TextureOp, args: &[u32; 3]| {
-                is_unsupported_op(op) || (!st.has_texture && reads_texture(op, args))
-            };
-            let rgb = if passes(st.color_op, &st.color_args) {
+            let rgb = if st.color_passes() {
                 [current[0], current[1], current[2]]
             } else {
                 let [a0, a1, a2] = st.color_args.map(fetch);
                 color_op(st.color_op, a0, a1, a2, &k)
             };
-            let alpha =
-                if st.color_op == TextureOp::DotProduct3 && !passes(st.color_op, &st.color_args) {
-                    rgb[0] // DOTPRODUCT3 replicates into alpha
-                } else if st.alpha_op == TextureOp::Disable || passes(st.alpha_op, &st.alpha_args) {
-                    current[3]
-                } else {
-                    let [a0, a1, a2] = st.alpha_args.map(|a| fetch(a)[3]);
-                    alpha_op(st.alpha_op, a0, a1, a2, &k)
-                };
+            let alpha = if st.color_op == TextureOp::DotProduct3 && !st.color_passes() {
+                rgb[0] // DOTPRODUCT3 replicates into alpha
+            } else if st.alpha_op == TextureOp::Disable || st.alpha_passes() {
+                current[3]
+            } else {
+                let [a0, a1, a2] = st.alpha_args.map(|a| fetch(a)[3]);
+                alpha_op(st.alpha_op, a0, a1, a2, &k)
+            };
             let result = [rgb[0], rgb[1], rgb[2], alpha].map(|c| c.clamp(0.0, 1.0));
             if st.result_to_temp {
                 temp = result;
@@ -449,8 +464,9 @@ fn factor(b: Blend, s: &Rgba, d: &Rgba, constant: &Rgba) -> Rgba {
     }
 }
 
-/// BOTHSRCALPHA and BOTHINVSRCALPHA as source override the destination factor.
-fn dest_factor(src: Blend, dst: Blend) -> Blend {
+/// SPEC 5.5: the destination factor a blend applies: BOTHSRCALPHA and BOTHINVSRCALPHA as
+/// source override `dst` (with INVSRCALPHA and SRCALPHA); otherwise `dst`.
+pub fn dest_factor(src: Blend, dst: Blend) -> Blend {
     match src {
         Blend::BothSrcAlpha => Blend::InvSrcAlpha,
         Blend::BothInvSrcAlpha => Blend::SrcAlpha,

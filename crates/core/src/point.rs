@@ -36,8 +36,23 @@ pub fn scaled_size(si: f32, scale: &PointScale, de: f32) -> f32 {
 #[inline]
 pub fn clamp_size(ss: f32, size_min: f32, size_max: f32, max_point_size: f32) -> f32 {
     let ss = if ss >= 0.0 { ss } else { 0.0 }; // NaN and negatives
+    let (lo, hi) = clamp_bounds(size_min, size_max, max_point_size);
+    ss.max(lo).min(hi)
+}
+
+/// SPEC 2.3: the bounds `(lo, hi)` of [`clamp_size`], never NaN: a NaN `POINTSIZE_MIN` is no
+/// lower bound (`-inf`), `hi = min(max_point_size, POINTSIZE_MAX)` ignoring a NaN operand (`+inf`
+/// when both are NaN). For a size `ss >= 0`, `min(max(ss, lo), hi)` is the clamped size, in
+/// any arithmetic that handles infinities, which is how the GPU backend's shader applies them.
+#[inline]
+pub fn clamp_bounds(size_min: f32, size_max: f32, max_point_size: f32) -> (f32, f32) {
+    let lo = if size_min.is_nan() {
+        f32::NEG_INFINITY
+    } else {
+        size_min
+    };
     let hi = max_point_size.min(size_max); // f32::min ignores a NaN operand
-    ss.max(size_min).min(hi)
+    (lo, if hi.is_nan() { f32::INFINITY } else { hi })
 }
 
 /// SPEC 4.1: the pixel indices `k` with `lo <= k < hi` for one axis of a square, as
@@ -260,6 +275,80 @@ impl PointSetup {
     /// The vertex layout of the draw.
     pub fn layout(&self) -> &Layout {
         &self.layout
+    }
+
+    /// True for XYZRHW vertices: screen positions, never scaled or user-clipped (SPEC 2.2, 3.3).
+    pub fn is_pretransformed(&self) -> bool {
+        self.pretransformed
+    }
+
+    /// D3DTS_WORLD, for the vertex-position clip-plane test (SPEC 3.3).
+    pub fn world(&self) -> &Mat4 {
+        &self.world
+    }
+
+    /// WORLD * VIEW: object to eye space (SPEC 1).
+    pub fn world_view(&self) -> &Mat4 {
+        &self.world_view
+    }
+
+    /// D3DTS_PROJECTION: eye to clip space (SPEC 1).
+    pub fn projection(&self) -> &Mat4 {
+        &self.projection
+    }
+
+    /// The viewport points are mapped to (SPEC 1).
+    pub fn viewport(&self) -> &Viewport {
+        &self.viewport
+    }
+
+    /// The viewport as pixel indices: covered rectangles are intersected with it (SPEC 3.2).
+    pub fn viewport_rect(&self) -> PixelRect {
+        self.viewport_rect
+    }
+
+    /// The POINTSIZE render state: `Si` when the vertex's PSIZE is not used (SPEC 2.1).
+    pub fn point_size(&self) -> f32 {
+        self.point_size
+    }
+
+    /// True when `Si` is the vertex's PSIZE: the format has it and the effective caps honour it
+    /// (SPEC 2.1).
+    pub fn uses_vertex_size(&self) -> bool {
+        self.use_vertex_size
+    }
+
+    /// The POINTSCALE terms when sizes are scaled by eye distance (SPEC 2.2), `None` otherwise.
+    pub fn scale(&self) -> Option<&PointScale> {
+        self.scale.as_ref()
+    }
+
+    /// True when the effective caps allow single-pixel points only: every size is 1 (SPEC 2.4).
+    pub fn is_single_pixel(&self) -> bool {
+        self.single_pixel
+    }
+
+    /// The clamp bounds `(lo, hi)` of SPEC 2.3 for this draw, as [`clamp_bounds`] gives them.
+    pub fn size_bounds(&self) -> (f32, f32) {
+        clamp_bounds(self.size_min, self.size_max, self.max_point_size)
+    }
+
+    /// D3DRS_CLIPPING: points outside the depth range are dropped (SPEC 3.1).
+    pub fn clipping(&self) -> bool {
+        self.clipping
+    }
+
+    /// The enabled user clip planes (SPEC 3.3): in clip space when
+    /// [`PointSetup::scaled_planes`] (test each pixel of the square through [`PixelPlane`]s),
+    /// in world space otherwise (test the vertex's world position).
+    pub fn user_planes(&self) -> &[[f32; 4]] {
+        &self.planes[..self.plane_count]
+    }
+
+    /// True when the user clip planes clip the scaled square per pixel
+    /// (CLIPPLANESCALEDPOINTS), false when they keep or drop whole points (SPEC 3.3).
+    pub fn scaled_planes(&self) -> bool {
+        self.scaled_planes
     }
 
     /// SPEC 2: the final size of a point with input size `si` at eye distance `de`.

@@ -16,6 +16,7 @@ use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
+use pointillist_core::device::RenderTarget;
 use pointillist_core::texture::{Texture, TextureError};
 
 pub mod dds;
@@ -261,6 +262,12 @@ pub fn load_texture(path: &Path) -> Result<Texture, ImageError> {
         path: path.to_path_buf(),
         source: Box::new(e),
     })
+}
+
+/// Saves a render target as an RGBA8 PNG holding its exact bytes, alpha included, through
+/// [`write_png_atomic`] (SCENE.md, command line).
+pub fn save_target_png(target: &RenderTarget, path: &Path) -> Result<(), ImageError> {
+    write_png_atomic(path, target.width, target.height, &target.to_rgba8())
 }
 
 /// Writes an RGBA8 image as a PNG file atomically: the data goes to a temporary file

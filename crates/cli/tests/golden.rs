@@ -1,0 +1,527 @@
+//! Golden images: every scene `scenes/*.toml` rendered by the CPU backend must match
+//! `tests/golden/NAME.png` exactly, every byte of RGBA8, alpha included.
+//!
+//! - `POINTILLIST_BLESS=1 cargo test -p pointillist-cli --test golden` (re)writes the goldens
+//!   instead of comparing; look at every image you bless.
+//! - On a mismatch the test writes `NAME.actual.png`, `NAME.expected.png` and `NAME.diff.png`
+//!   (differing pixels in red on a dimmed copy of the expected image) to `golden-failures/`
+//!   in the cargo target folder (`$CARGO_TARGET_DIR`, else `target/`) and fails naming the first
+//!   differing pixel and how many differ.
+//! - The scenes' generated assets (the particle texture, the mip-level DDS, vertex files) come
+//!   from the generators below: `cargo test -p pointillist-cli --test golden -- --ignored`
+//!   rewrites them, and `generated_assets_are_up_to_date` checks the committed files match.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use pointillist_image::png::{encode_png_rgba8, load_png};
+use pointillist_image::write_png_atomic;
+
+/// Fewer scenes than this means the scene folder was not found or the glob broke.
+const MIN_SCENES: usize = 10;
+
+/// The workspace root: two levels above this crate.
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn scenes_dir() -> PathBuf {
+    root().join("scenes")
+}
+
+fn golden_dir() -> PathBuf {
+    root().join("tests/golden")
+}
+
+/// Where mismatches are written: `$CARGO_TARGET_DIR/golden-failures`, else
+/// `target/golden-failures` in the workspace.
+fn failures_dir() -> PathBuf {
+    let target = match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) if !dir.is_empty() => {
+            let dir = PathBuf::from(dir);
+            if dir.is_absolute() {
+                dir
+            } else {
+                root().join(dir)
+            }
+        }
+        _ => root().join("target"),
+    };
+    target.join("golden-failures")
+}
+
+fn blessing() -> bool {
+    std::env::var("POINTILLIST_BLESS").is_ok_and(|v| !v.is_empty() && v != "0")
+}
+
+/// The scene files, sorted by name.
+fn scene_files() -> Vec<PathBuf> {
+    let dir = scenes_dir();
+    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()))
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml") && p.is_file())
+        .collect();
+    files.sort();
+    files
+}
+
+/// An RGBA8 image.
+#[derive(Clone, Debug, PartialEq)]
+struct Image {
+    width: u32,
+    height: u32,
+    rgba: Vec<u8>,
+}
+
+impl Image {
+    fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+        let at = (y as usize * self.width as usize + x as usize) * 4;
+        [
+            self.rgba[at],
+            self.rgba[at + 1],
+            self.rgba[at + 2],
+            self.rgba[at + 3],
+        ]
+    }
+}
+
+/// Renders a scene as the CLI does: load, create the device, replay, read the target.
+fn render(scene_file: &Path) -> Result<Image, String> {
+    let scene = pointillist_scene::load(scene_file).map_err(|e| e.to_string())?;
+    let mut device = pointillist_cpu::device(scene.device_desc()).map_err(|e| e.to_string())?;
+    scene.replay(&mut device).map_err(|e| e.to_string())?;
+    let target = device.read_target().map_err(|e| e.to_string())?;
+    Ok(Image {
+        width: target.width,
+        height: target.height,
+        rgba: target.to_rgba8(),
+    })
+}
+
+/// Reads a PNG as RGBA8 (level 0 of the decoded texture, D3DCOLOR back to RGBA bytes).
+fn read_png(path: &Path) -> Result<Image, String> {
+    let bytes = fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let texture = load_png(&bytes).map_err(|e| format!("cannot decode {}: {e}", path.display()))?;
+    let level = &texture.levels()[0];
+    let rgba = level
+        .texels
+        .iter()
+        .flat_map(|&c| {
+            let [b, g, r, a] = c.to_le_bytes();
+            [r, g, b, a]
+        })
+        .collect();
+    Ok(Image {
+        width: level.width,
+        height: level.height,
+        rgba,
+    })
+}
+
+fn write_png(path: &Path, image: &Image) {
+    if let Some(dir) = path.parent() {
+        fs::create_dir_all(dir).unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
+    }
+    write_png_atomic(path, image.width, image.height, &image.rgba)
+        .unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+}
+
+/// The expected image dimmed to a quarter (opaque), with every differing pixel opaque red.
+fn diff_image(expected: &Image, actual: &Image) -> Image {
+    let mut rgba = Vec::with_capacity(expected.rgba.len());
+    for (e, a) in expected
+        .rgba
+        .chunks_exact(4)
+        .zip(actual.rgba.chunks_exact(4))
+    {
+        if e == a {
+            rgba.extend_from_slice(&[e[0] / 4, e[1] / 4, e[2] / 4, 255]);
+        } else {
+            rgba.extend_from_slice(&[255, 0, 0, 255]);
+        }
+    }
+    Image {
+        width: expected.width,
+        height: expected.height,
+        rgba,
+    }
+}
+
+/// Compares one scene's render with its golden; `Err` describes the mismatch, whose images go
+/// to `out`. A match removes the images an earlier failure of `name` left there.
+fn check(name: &str, actual: &Image, golden: &Path, out: &Path) -> Result<(), String> {
+    if !golden.exists() {
+        return Err(format!(
+            "{name}: no golden image {} (run with POINTILLIST_BLESS=1 to create it)",
+            golden.display()
+        ));
+    }
+    let expected = read_png(golden)?;
+    if expected == *actual {
+        for kind in ["actual", "expected", "diff"] {
+            let _ = fs::remove_file(out.join(format!("{name}.{kind}.png")));
+        }
+        return Ok(());
+    }
+    write_png(&out.join(format!("{name}.actual.png")), actual);
+    write_png(&out.join(format!("{name}.expected.png")), &expected);
+    if (expected.width, expected.height) != (actual.width, actual.height) {
+        let _ = fs::remove_file(out.join(format!("{name}.diff.png")));
+        return Err(format!(
+            "{name}: rendered {}x{}, golden is {}x{} (images in {})",
+            actual.width,
+            actual.height,
+            expected.width,
+            expected.height,
+            out.display()
+        ));
+    }
+    write_png(
+        &out.join(format!("{name}.diff.png")),
+        &diff_image(&expected, actual),
+    );
+    let mut first = None;
+    let mut count = 0usize;
+    for y in 0..actual.height {
+        for x in 0..actual.width {
+            if expected.pixel(x, y) != actual.pixel(x, y) {
+                count += 1;
+                first.get_or_insert((x, y));
+            }
+        }
+    }
+    let (x, y) = first.expect("images differ, so some pixel differs");
+    Err(format!(
+        "{name}: {count} pixel(s) differ; first at ({x}, {y}): expected RGBA {:?}, got {:?} \
+         (actual, expected and diff images in {})",
+        expected.pixel(x, y),
+        actual.pixel(x, y),
+        out.display()
+    ))
+}
+
+#[test]
+fn scenes_match_their_golden_images() {
+    let scenes = scene_files();
+    let bless = blessing();
+    let mut failures = Vec::new();
+    let mut names = Vec::new();
+    for scene in &scenes {
+        let name = scene
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .expect("scene file names are UTF-8")
+            .to_owned();
+        let golden = golden_dir().join(format!("{name}.png"));
+        names.push(name.clone());
+        let actual = match render(scene) {
+            Ok(image) => image,
+            Err(e) => {
+                failures.push(format!("{name}: cannot render: {e}"));
+                continue;
+            }
+        };
+        if bless {
+            write_png(&golden, &actual);
+            eprintln!("blessed {}", golden.display());
+        } else if let Err(e) = check(&name, &actual, &golden, &failures_dir()) {
+            failures.push(e);
+        }
+    }
+    // A golden without a scene is a leftover: its scene was renamed or removed.
+    if let Ok(entries) = fs::read_dir(golden_dir()) {
+        for entry in entries {
+            let path = entry.expect("directory entry").path();
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+            if path.extension().is_some_and(|x| x == "png") && !names.iter().any(|n| n == stem) {
+                failures.push(format!(
+                    "{}: golden image without a scene scenes/{stem}.toml",
+                    path.display()
+                ));
+            }
+        }
+    }
+    assert!(
+        scenes.len() >= MIN_SCENES,
+        "found {} scene(s) in {}, expected at least {MIN_SCENES}",
+        scenes.len(),
+        scenes_dir().display()
+    );
+    assert!(
+        failures.is_empty(),
+        "{} of {} scene(s) failed:\n{}",
+        failures.len(),
+        scenes.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn diff_marks_differing_pixels_red_on_dimmed_expected() {
+    let expected = Image {
+        width: 2,
+        height: 1,
+        rgba: vec![200, 100, 40, 0, 8, 8, 8, 255],
+    };
+    let mut actual = expected.clone();
+    actual.rgba[4] = 9;
+    let diff = diff_image(&expected, &actual);
+    assert_eq!(diff.rgba, [50, 25, 10, 255, 255, 0, 0, 255]);
+    let dir = failures_dir().join("self-test");
+    let golden = dir.join("two.png");
+    write_png(&golden, &expected);
+    let err = check("two", &actual, &golden, &dir).unwrap_err();
+    assert!(err.contains("1 pixel(s) differ; first at (1, 0)"), "{err}");
+    assert!(dir.join("two.diff.png").exists());
+    assert!(check("two", &expected, &golden, &dir).is_ok());
+    assert!(!dir.join("two.diff.png").exists());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Generated scene assets.
+
+/// A generated file: its path below `scenes/` and its content.
+enum Asset {
+    /// An RGBA8 PNG, compared by pixels (the encoder's bytes may change between versions).
+    Png(&'static str, Image),
+    /// Any other file, compared byte for byte.
+    Bytes(&'static str, Vec<u8>),
+}
+
+/// `scenes/textures/particle.png`: 64x64 white, premultiplied, with a smooth radial falloff:
+/// colour and alpha are both `f(d)`, `d` the distance from the centre in radii; `f` is a
+/// bright core on a soft halo that reaches exactly 0 at the edge, so additively blended sprites
+/// glow without showing their square.
+fn particle_texture() -> Image {
+    const SIDE: u32 = 64;
+    let mut rgba = Vec::with_capacity((SIDE * SIDE * 4) as usize);
+    for y in 0..SIDE {
+        for x in 0..SIDE {
+            let half = SIDE as f64 / 2.0;
+            let dx = (x as f64 + 0.5 - half) / half;
+            let dy = (y as f64 + 0.5 - half) / half;
+            let d2 = (dx * dx + dy * dy).min(1.0);
+            let window = (1.0 - d2 * d2) * (1.0 - d2 * d2);
+            let f = (0.3 * (-d2 * 10.0).exp() + 0.7 * (-d2 * 2.0).exp()) * window;
+            let v = (f.clamp(0.0, 1.0) * 255.0).round() as u8;
+            rgba.extend_from_slice(&[v, v, v, v]);
+        }
+    }
+    Image {
+        width: SIDE,
+        height: SIDE,
+        rgba,
+    }
+}
+
+/// A DDS file holding an A8R8G8B8 texture with the given mip levels (largest first), each
+/// `(width, height, D3DCOLOR texels)`, written field by field as the DirectX SDK lays it out.
+fn dds_a8r8g8b8(levels: &[(u32, u32, Vec<u32>)]) -> Vec<u8> {
+    const DDSD_CAPS: u32 = 0x1;
+    const DDSD_HEIGHT: u32 = 0x2;
+    const DDSD_WIDTH: u32 = 0x4;
+    const DDSD_PITCH: u32 = 0x8;
+    const DDSD_PIXELFORMAT: u32 = 0x1000;
+    const DDSD_MIPMAPCOUNT: u32 = 0x2_0000;
+    const DDPF_ALPHAPIXELS: u32 = 0x1;
+    const DDPF_RGB: u32 = 0x40;
+    const DDSCAPS_COMPLEX: u32 = 0x8;
+    const DDSCAPS_TEXTURE: u32 = 0x1000;
+    const DDSCAPS_MIPMAP: u32 = 0x40_0000;
+    let (width, height, _) = &levels[0];
+    let mut header = vec![
+        124,
+        DDSD_CAPS | DDSD_HEIGHT | DDSD_WIDTH | DDSD_PITCH | DDSD_PIXELFORMAT | DDSD_MIPMAPCOUNT,
+        *height,
+        *width,
+        width * 4, // dwPitchOrLinearSize
+        0,         // dwDepth
+        levels.len() as u32,
+    ];
+    header.extend([0; 11]); // dwReserved1
+    header.extend([
+        32, // ddspf.dwSize
+        DDPF_RGB | DDPF_ALPHAPIXELS,
+        0,  // dwFourCC
+        32, // dwRGBBitCount
+        0x00FF_0000,
+        0x0000_FF00,
+        0x0000_00FF,
+        0xFF00_0000,
+    ]);
+    header.push(DDSCAPS_COMPLEX | DDSCAPS_TEXTURE | DDSCAPS_MIPMAP); // dwCaps
+    header.extend([0; 4]); // dwCaps2, dwCaps3, dwCaps4, dwReserved2
+    assert_eq!(header.len() * 4, 124);
+    let mut out = b"DDS ".to_vec();
+    for word in header {
+        out.extend_from_slice(&word.to_le_bytes());
+    }
+    for (w, h, texels) in levels {
+        assert_eq!(texels.len(), (w * h) as usize);
+        for t in texels {
+            out.extend_from_slice(&t.to_le_bytes());
+        }
+    }
+    out
+}
+
+/// `scenes/textures/mip_levels.dds`: 16x16 A8R8G8B8 with all five levels stored, each one
+/// colour so a render shows which level was sampled: 16x16 red, 8x8 green, 4x4 blue, 2x2
+/// yellow, 1x1 magenta (all opaque). Generated levels would all be red.
+fn mip_levels_dds() -> Vec<u8> {
+    let colours = [
+        0xFFFF_0000u32,
+        0xFF00_FF00,
+        0xFF00_00FF,
+        0xFFFF_FF00,
+        0xFFFF_00FF,
+    ];
+    let levels: Vec<(u32, u32, Vec<u32>)> = colours
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| {
+            let side = 16 >> i;
+            (side, side, vec![c; (side * side) as usize])
+        })
+        .collect();
+    dds_a8r8g8b8(&levels)
+}
+
+/// Little-endian vertex bytes from `(floats, colour)` rows: `XYZRHW | PSIZE | DIFFUSE` or
+/// `XYZ | PSIZE | DIFFUSE` layouts, the floats first, then the D3DCOLOR.
+fn vertex_bytes(rows: &[(Vec<f32>, u32)]) -> Vec<u8> {
+    let mut out = Vec::new();
+    for (floats, colour) in rows {
+        for f in floats {
+            out.extend_from_slice(&f.to_le_bytes());
+        }
+        out.extend_from_slice(&colour.to_le_bytes());
+    }
+    out
+}
+
+/// `scenes/vertices/caps_points.bin`, `XYZRHW | PSIZE | DIFFUSE` (24 bytes a vertex): five
+/// pre-transformed points at Y = 40, X = 10, 30, 56, 92, 150 with per-vertex sizes 4, 8, 16,
+/// 32, 72 (the last more than the `no_per_vertex_size` profile's 64) and colours red, yellow,
+/// green, cyan, blue.
+fn caps_points() -> Vec<u8> {
+    let points = [
+        (10.0, 4.0, 0xFFFF_0000),
+        (30.0, 8.0, 0xFFFF_FF00),
+        (56.0, 16.0, 0xFF00_FF00),
+        (92.0, 32.0, 0xFF00_FFFF),
+        (150.0, 72.0, 0xFF40_40FF),
+    ];
+    let rows: Vec<(Vec<f32>, u32)> = points
+        .iter()
+        .map(|&(x, size, colour)| (vec![x, 40.0, 0.5, 1.0, size], colour))
+        .collect();
+    vertex_bytes(&rows)
+}
+
+/// `scenes/vertices/spiral.bin`, `XYZ | PSIZE | DIFFUSE` (20 bytes a vertex): a flat spiral
+/// galaxy in the plane y = 0 (world units), with a small deterministic jitter: 120 core
+/// particles within about 1 unit of the centre (warm white, size 0.4), then 480 on three arms
+/// from radius 0.6 to 6, sizes 0.45 to 0.25 and colours from warm white to blue.
+fn spiral_points() -> Vec<u8> {
+    const CORE: usize = 120;
+    const ARMS: usize = 480;
+    // A small linear congruential generator: the same jitter on every machine.
+    let mut seed = 0x2545_F491u32;
+    let mut next = || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+    };
+    let colour = |warm: f32| {
+        let channel = |lo: f32, hi: f32| ((lo + (hi - lo) * warm) * 255.0).round() as u32;
+        0xFF00_0000 | (channel(0.3, 1.0) << 16) | (channel(0.45, 0.85) << 8) | channel(1.0, 0.6)
+    };
+    let mut rows = Vec::with_capacity(CORE + ARMS);
+    for _ in 0..CORE {
+        let r = (next() + next() + next()).abs() * 1.2;
+        let angle = next() * std::f32::consts::TAU;
+        let (x, z) = (r * angle.cos(), r * angle.sin());
+        rows.push((vec![x, next() * 0.2, z, 0.4], colour(1.0)));
+    }
+    for i in 0..ARMS {
+        let t = i as f32 / ARMS as f32;
+        let arm = (i % 3) as f32 * std::f32::consts::TAU / 3.0;
+        let r = 0.6 + 5.4 * t;
+        let angle = arm + r * 0.55 + next() * 0.3;
+        let spread = 0.25 + 0.08 * r;
+        let x = r * angle.cos() + next() * spread;
+        let z = r * angle.sin() + next() * spread;
+        let y = next() * 0.15;
+        let size = 0.45 - 0.2 * t + next() * 0.1;
+        rows.push((vec![x, y, z, size], colour((1.0 - t * 1.3).max(0.0))));
+    }
+    vertex_bytes(&rows)
+}
+
+fn particle_asset() -> Asset {
+    Asset::Png("textures/particle.png", particle_texture())
+}
+
+fn data_assets() -> Vec<Asset> {
+    vec![
+        Asset::Bytes("textures/mip_levels.dds", mip_levels_dds()),
+        Asset::Bytes("vertices/caps_points.bin", caps_points()),
+        Asset::Bytes("vertices/spiral.bin", spiral_points()),
+    ]
+}
+
+fn write_asset(asset: &Asset) {
+    match asset {
+        Asset::Png(rel, image) => write_png(&scenes_dir().join(rel), image),
+        Asset::Bytes(rel, bytes) => {
+            let path = scenes_dir().join(rel);
+            if let Some(dir) = path.parent() {
+                fs::create_dir_all(dir).expect("create the asset folder");
+            }
+            fs::write(&path, bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        }
+    }
+}
+
+#[test]
+#[ignore = "writes scenes/textures/particle.png"]
+fn generate_particle_texture() {
+    write_asset(&particle_asset());
+}
+
+#[test]
+#[ignore = "writes the scenes' DDS texture and vertex files"]
+fn generate_scene_data() {
+    for asset in data_assets() {
+        write_asset(&asset);
+    }
+}
+
+#[test]
+fn generated_assets_are_up_to_date() {
+    let mut assets = data_assets();
+    assets.push(particle_asset());
+    for asset in &assets {
+        match asset {
+            Asset::Png(rel, image) => {
+                let committed = read_png(&scenes_dir().join(rel)).unwrap();
+                assert!(
+                    committed == *image,
+                    "scenes/{rel} differs from its generator; run the ignored generators"
+                );
+                // Sanity: the encoder accepts it (what the generator writes).
+                encode_png_rgba8(image.width, image.height, &image.rgba).unwrap();
+            }
+            Asset::Bytes(rel, bytes) => {
+                let path = scenes_dir().join(rel);
+                let committed =
+                    fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                assert!(
+                    committed == *bytes,
+                    "scenes/{rel} differs from its generator; run the ignored generators"
+                );
+            }
+        }
+    }
+}
