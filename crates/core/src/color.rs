@@ -19,8 +19,11 @@ pub fn unorm8_to_f32(v: u8) -> f32 {
 /// NaN becomes 0.
 #[inline]
 pub fn f32_to_unorm8(v: f32) -> u8 {
-    // `as` saturates and maps NaN to 0; the clamp keeps the rounding inside 0..=255.
-    (v.clamp(0.0, 1.0) * 255.0).round() as u8
+    // Round half away from zero without a libm call: `x - trunc(x)` is exact for x in 0..=255.
+    // NaN stays NaN through the clamp and `as` maps it to 0.
+    let x = v.clamp(0.0, 1.0) * 255.0;
+    let t = x as u8;
+    if x - f32::from(t) >= 0.5 { t + 1 } else { t }
 }
 
 /// Splits a D3DCOLOR into float channels.
@@ -78,6 +81,10 @@ mod tests {
         assert_eq!(f32_to_unorm8(-3.0), 0);
         assert_eq!(f32_to_unorm8(7.0), 255);
         assert_eq!(f32_to_unorm8(f32::NAN), 0);
+        for k in 0..=25_500u32 {
+            let v = k as f32 / 25_500.0;
+            assert_eq!(f32_to_unorm8(v), (v * 255.0).round() as u8, "{v}");
+        }
     }
 
     #[test]

@@ -370,6 +370,9 @@ fn sanitize(u: f32) -> f32 {
 /// border colour.
 #[inline]
 fn address(mode: TextureAddress, k: i64, n: i64) -> Option<usize> {
+    if (0..n).contains(&k) {
+        return Some(k as usize); // every mode maps an index inside the texture to itself
+    }
     let i = match mode {
         TextureAddress::Wrap => k.rem_euclid(n),
         TextureAddress::Mirror => {
@@ -403,6 +406,15 @@ fn fetch(level: &Level, s: &SamplerDesc, k: i64, l: i64) -> u32 {
     }
 }
 
+/// `floor(x)` as an integer for a sanitized coordinate times a texture size (|x| < 2^35),
+/// without a libm call: f32 values of 2^24 and more are integers already, and smaller ones
+/// convert to i64 exactly.
+#[inline]
+fn floor_i64(x: f32) -> i64 {
+    let t = x as i64;
+    if t as f32 > x { t - 1 } else { t }
+}
+
 #[inline]
 fn lerp(a: Rgba, b: Rgba, t: f32) -> Rgba {
     [
@@ -419,18 +431,16 @@ fn sample_level(level: &Level, s: &SamplerDesc, u: f32, v: f32, linear: bool) ->
     let w = level.width as f32;
     let h = level.height as f32;
     if !linear {
-        let k = (u * w).floor() as i64;
-        let l = (v * h).floor() as i64;
+        let k = floor_i64(u * w);
+        let l = floor_i64(v * h);
         return color::unpack(fetch(level, s, k, l));
     }
     let x = u * w - 0.5;
     let y = v * h - 0.5;
-    let xf = x.floor();
-    let yf = y.floor();
-    let fx = x - xf;
-    let fy = y - yf;
-    let k = xf as i64;
-    let l = yf as i64;
+    let k = floor_i64(x);
+    let l = floor_i64(y);
+    let fx = x - k as f32;
+    let fy = y - l as f32;
     let t00 = color::unpack(fetch(level, s, k, l));
     let t10 = color::unpack(fetch(level, s, k + 1, l));
     let t01 = color::unpack(fetch(level, s, k, l + 1));
@@ -438,17 +448,40 @@ fn sample_level(level: &Level, s: &SamplerDesc, u: f32, v: f32, linear: bool) ->
     lerp(lerp(t00, t10, fx), lerp(t01, t11, fx), fy)
 }
 
-impl Texture {
-    /// SPEC 5.2 reference sampler: `lod` is log2(texels per pixel) of level 0; the sampler's
-    /// bias is added here. Returns Rgba.
-    ///
-    /// With `lod' = lod + bias` (NaN counts as 0): MAGFILTER applies when `lod' <= 0`, MINFILTER
-    /// otherwise. MIPFILTER NONE samples level `max_mip_level`; POINT samples level
-    /// `round(lod')`; LINEAR blends levels `floor(lod')` and `floor(lod') + 1` by the fraction;
-    /// level indices are clamped to `[max_mip_level, last]`.
-    pub fn sample(&self, s: &SamplerDesc, u: f32, v: f32, lod: f32) -> Rgba {
+/// A texture and sampler with the level of detail decided: SPEC 5.2's level and filter choice,
+/// made once per sprite (whose LOD is constant), then [`LodSampler::sample`] per pixel.
+#[derive(Copy, Clone, Debug)]
+pub struct LodSampler<'a> {
+    level: &'a Level,
+    /// The second level of a MIPFILTER LINEAR blend and its weight.
+    blend: Option<(&'a Level, f32)>,
+    linear: bool,
+    desc: SamplerDesc,
+}
+
+impl LodSampler<'_> {
+    /// Samples at `(u, v)`; NaN counts as 0, huge coordinates are clamped (SPEC 5.2).
+    #[inline]
+    pub fn sample(&self, u: f32, v: f32) -> Rgba {
         let u = sanitize(u);
         let v = sanitize(v);
+        let c0 = sample_level(self.level, &self.desc, u, v, self.linear);
+        match self.blend {
+            Some((level, frac)) => {
+                lerp(c0, sample_level(level, &self.desc, u, v, self.linear), frac)
+            }
+            None => c0,
+        }
+    }
+}
+
+impl Texture {
+    /// SPEC 5.2: decides level and filter for `lod` (log2 of texels per pixel of level 0; the
+    /// sampler's bias is added here, NaN counts as 0). MAGFILTER applies when `lod' <= 0`,
+    /// MINFILTER otherwise. MIPFILTER NONE samples level `max_mip_level`; POINT samples level
+    /// `round(lod')`; LINEAR blends levels `floor(lod')` and `floor(lod') + 1` by the fraction;
+    /// level indices are clamped to `[max_mip_level, last]`.
+    pub fn at_lod(&self, s: &SamplerDesc, lod: f32) -> LodSampler<'_> {
         let mut lod = lod + s.mip_lod_bias;
         if lod.is_nan() {
             lod = 0.0;
@@ -462,30 +495,35 @@ impl Texture {
         let base = (s.max_mip_level as usize).min(last);
         // A level index as f32 clamped into [base, last]; clamping first keeps the cast exact.
         let clamp_level = |x: f32| (x.clamp(base as f32, last as f32) as usize).clamp(base, last);
+        let one = |i: usize| LodSampler {
+            level: &self.levels[i],
+            blend: None,
+            linear,
+            desc: *s,
+        };
         match s.mip {
-            TextureFilter::None => sample_level(&self.levels[base], s, u, v, linear),
-            TextureFilter::Point => {
-                let i = if lod <= 0.0 {
-                    base
-                } else {
-                    clamp_level(lod.round())
-                };
-                sample_level(&self.levels[i], s, u, v, linear)
-            }
+            TextureFilter::None => one(base),
+            TextureFilter::Point => one(if lod <= 0.0 {
+                base
+            } else {
+                clamp_level(lod.round())
+            }),
             _ => {
                 let l = lod.max(0.0);
                 let lf = l.floor();
                 let frac = l - lf;
-                let i0 = clamp_level(lf);
-                let i1 = clamp_level(lf + 1.0);
-                let c0 = sample_level(&self.levels[i0], s, u, v, linear);
-                if i0 == i1 || frac == 0.0 {
-                    return c0;
+                let (i0, i1) = (clamp_level(lf), clamp_level(lf + 1.0));
+                LodSampler {
+                    blend: (i0 != i1 && frac != 0.0).then(|| (&self.levels[i1], frac)),
+                    ..one(i0)
                 }
-                let c1 = sample_level(&self.levels[i1], s, u, v, linear);
-                lerp(c0, c1, frac)
             }
         }
+    }
+
+    /// SPEC 5.2 reference sampler: [`Texture::at_lod`] then [`LodSampler::sample`].
+    pub fn sample(&self, s: &SamplerDesc, u: f32, v: f32, lod: f32) -> Rgba {
+        self.at_lod(s, lod).sample(u, v)
     }
 }
 
