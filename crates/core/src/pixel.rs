@@ -290,6 +290,18 @@ impl PixelSetup {
         self.stages[..self.stage_count].iter().any(|s| s.samples)
     }
 
+    /// True when the cascade returns the diffuse colour unchanged (SPEC 5.1): no specular add,
+    /// and every enabled stage passes CURRENT's colour and alpha through into CURRENT. Then
+    /// `pack(shade(input))` is the vertex's DIFFUSE, bit for bit.
+    pub fn passes_diffuse(&self) -> bool {
+        !self.specular
+            && self.stages[..self.stage_count].iter().all(|st| {
+                !st.result_to_temp
+                    && st.color_passes()
+                    && (st.alpha_op == TextureOp::Disable || st.alpha_passes())
+            })
+    }
+
     /// True when every pixel of a point gets the same colour: no stage samples a texture, or
     /// sprite coordinates are off so every pixel samples at the vertex's coordinates.
     pub fn is_flat(&self) -> bool {
@@ -540,6 +552,18 @@ mod tests {
         };
         let c = p.shade(&input, |_| panic!("no texture bound, nothing sampled"));
         assert_eq!(pack(c), 0x8040_2010);
+    }
+
+    #[test]
+    fn spec_5_1_default_untextured_cascade_passes_diffuse() {
+        let (mut s, p) = setup();
+        assert!(p.passes_diffuse());
+        s.render_states[RenderState::SPECULARENABLE.0 as usize] = 1;
+        assert!(!PixelSetup::new(&s).passes_diffuse());
+        s.render_states[RenderState::SPECULARENABLE.0 as usize] = 0;
+        s.stage_states[0][TextureStageState::COLOROP.0 as usize] = TextureOp::Add as u32;
+        s.stage_states[0][TextureStageState::COLORARG1.0 as usize] = TA_TFACTOR;
+        assert!(!PixelSetup::new(&s).passes_diffuse());
     }
 
     #[test]

@@ -41,7 +41,6 @@ pub fn device(desc: DeviceDesc) -> Result<CpuDevice, DeviceError> {
 #[derive(Debug, Default)]
 pub struct CpuBackend {
     target: RenderTarget,
-    scratch: raster::Scratch,
 }
 
 impl CpuBackend {
@@ -80,7 +79,7 @@ impl Backend for CpuBackend {
         fvf: Fvf,
         vertices: &[u8],
     ) -> Result<(), DeviceError> {
-        raster::draw(&mut self.target, &mut self.scratch, state, fvf, vertices);
+        raster::draw(&mut self.target, state, fvf, vertices);
         Ok(())
     }
 
