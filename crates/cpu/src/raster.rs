@@ -456,8 +456,8 @@ mod tests {
         assert!(is_source_alpha(&setup));
         for a in 0..=255u32 {
             for d in (0..=255u32).step_by(3) {
-                let src = a << 24 | (255 - a) << 16 | d << 8 | (a ^ d);
-                let dst = d << 24 | a << 16 | (a * 7 & 255) << 8 | 255 - d;
+                let src = (a << 24) | ((255 - a) << 16) | (d << 8) | (a ^ d);
+                let dst = (d << 24) | (a << 16) | (((a * 7) & 255) << 8) | (255 - d);
                 assert_eq!(
                     SourceAlpha.blend(src, dst),
                     blend(&setup, src, dst),
