@@ -1,1 +1,251 @@
-fn main() {}
+//! `pointillist`: render Direct3D 9 point-sprite scene files to PNG images, and show the device
+//! caps a scene runs with.
+//!
+//! The command line is the contract of SCENE.md ("Command line"): `render` writes the render
+//! target's exact bytes as an RGBA8 PNG, `caps` prints the caps a scene would get. Every failure
+//! is one line `error: ...` on standard error and a non-zero exit status; nothing the user gives
+//! makes it panic.
+//!
+//! This file holds the argument grammar and the dispatch; [`render`] and [`caps`] do the work.
+
+mod caps;
+mod render;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::error::ErrorKind;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use pointillist_core::caps::Caps;
+
+/// The long description of `pointillist --help`.
+const LONG_ABOUT: &str = "\
+Render Direct3D 9 point-sprite scenes exactly, without Direct3D.
+
+pointillist reproduces the D3D9 fixed-function point pipeline: D3DRS_POINTSIZE and per-vertex
+D3DFVF_PSIZE, D3DRS_POINTSCALEENABLE with D3DRS_POINTSCALE_A/B/C, the D3DRS_POINTSIZE_MIN/MAX
+clamp against D3DCAPS9.MaxPointSize, D3DRS_POINTSPRITEENABLE texture coordinates, user clip
+planes, texture stages, alpha test, depth test and blending, pixel for pixel.";
+
+/// Examples shown at the end of `pointillist --help`.
+const EXAMPLES: &str = "\
+Examples:
+  pointillist render scenes/ring.toml -o ring.png
+  pointillist caps
+  pointillist caps --profile single_pixel
+
+A scene file is a TOML transcription of a D3D9 program: `[states] POINTSIZE = 15.0` is
+SetRenderState(D3DRS_POINTSIZE, 15.0f), each `[[draw]]` a DrawPrimitiveUP(D3DPT_POINTLIST, ...).
+The format is described in shared/SCENE.md, the rules pointillist follows in shared/SPEC.md.";
+
+/// The long description of `pointillist render --help`.
+const RENDER_LONG_ABOUT: &str = "\
+Render a scene file to an RGBA8 PNG of the render target.
+
+Creates the device the scene's [target] and [caps] describe, issues its calls in order
+(SetRenderState, SetTextureStageState, SetSamplerState, SetTexture, SetTransform, SetViewport,
+SetClipPlane, DrawPrimitiveUP(D3DPT_POINTLIST)), reads the A8R8G8B8 target back and writes its
+exact bytes, alpha included, as an RGBA8 PNG. OUT is replaced atomically: on any error an
+existing OUT is left untouched.
+
+States that have no effect on points (D3DRS_FOGENABLE, D3DRS_LIGHTING, ...) are accepted and
+reported once each as a warning on standard error.";
+
+/// Examples shown at the end of `pointillist render --help`.
+const RENDER_EXAMPLES: &str = "\
+Examples:
+  pointillist render scenes/ring.toml -o ring.png
+  pointillist render my_scene.toml -o out/my_scene.png --backend cpu
+
+The scene format is described in shared/SCENE.md.";
+
+/// The long description of `pointillist caps --help`.
+const CAPS_LONG_ABOUT: &str = "\
+Print the device caps a scene would get, in D3DCAPS9 terms: MaxPointSize, D3DFVFCAPS_PSIZE,
+D3DPMISCCAPS_CLIPPLANESCALEDPOINTS and the vertex processing. Where software vertex processing
+changes them (the runtime emulates point sprites), also prints the caps the pipeline applies.
+Then lists the built-in profiles a scene's `[caps] profile = \"NAME\"` can name.
+
+With SCENE, prints that scene's caps: its profile with its [caps] overrides.";
+
+/// Examples shown at the end of `pointillist caps --help`.
+const CAPS_EXAMPLES: &str = "\
+Examples:
+  pointillist caps
+  pointillist caps --profile single_pixel
+  pointillist caps scenes/ring.toml";
+
+/// The top-level grammar.
+#[derive(Debug, Parser)]
+#[command(
+    name = "pointillist",
+    version,
+    about = "Render Direct3D 9 point-sprite scenes exactly, without Direct3D.",
+    long_about = LONG_ABOUT,
+    after_help = EXAMPLES,
+    propagate_version = true
+)]
+struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Render a scene file to an RGBA8 PNG of the render target.
+    #[command(long_about = RENDER_LONG_ABOUT, after_help = RENDER_EXAMPLES)]
+    Render(RenderArgs),
+    /// Print the device caps a scene would get (MaxPointSize, D3DFVFCAPS_PSIZE, ...).
+    #[command(long_about = CAPS_LONG_ABOUT, after_help = CAPS_EXAMPLES)]
+    Caps(CapsArgs),
+}
+
+/// Which backend draws.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BackendKind {
+    /// The CPU rasterizer: exact, runs anywhere.
+    Cpu,
+    /// The GPU backend (planned; not built yet).
+    Gpu,
+}
+
+impl BackendKind {
+    /// Fails with the one-line reason when this backend is not available in this build.
+    pub fn ensure_available(self) -> Result<(), String> {
+        match self {
+            BackendKind::Cpu => Ok(()),
+            BackendKind::Gpu => Err("the GPU backend is not built yet (issue: GPU backend on \
+                 wgpu); use --backend cpu"
+                .to_string()),
+        }
+    }
+}
+
+/// Arguments of `pointillist render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The scene file (TOML, see shared/SCENE.md).
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+    /// The PNG file to write (RGBA8, the target's exact bytes).
+    #[arg(short, long, value_name = "OUT.png")]
+    pub output: PathBuf,
+    /// The backend that draws.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = BackendKind::Cpu)]
+    pub backend: BackendKind,
+}
+
+/// Arguments of `pointillist caps`.
+#[derive(Debug, Args)]
+pub struct CapsArgs {
+    /// Show the caps of this scene file (its [caps] table) instead of a profile.
+    #[arg(value_name = "SCENE", conflicts_with = "profile")]
+    pub scene: Option<PathBuf>,
+    /// The built-in caps profile to show (default: reference).
+    #[arg(long, value_name = "NAME", value_parser = parse_profile, long_help = profile_help())]
+    pub profile: Option<(String, Caps)>,
+    /// The backend whose caps to show.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = BackendKind::Cpu)]
+    pub backend: BackendKind,
+}
+
+/// Parses a `--profile` value with [`Caps::profile`]'s rules (case-insensitive, `-` as `_`).
+fn parse_profile(name: &str) -> Result<(String, Caps), String> {
+    let caps = Caps::profile(name).ok_or_else(|| {
+        format!(
+            "unknown caps profile; the built-in profiles are {}",
+            Caps::PROFILES.join(", ")
+        )
+    })?;
+    Ok((name.to_ascii_lowercase().replace('-', "_"), caps))
+}
+
+/// The long help of `--profile`: the profile names, the default first.
+fn profile_help() -> String {
+    format!(
+        "The built-in caps profile to show, as a scene's [caps] profile = \"NAME\" selects it\n\
+         (case-insensitive), one of:\n{} (default: {}).",
+        Caps::PROFILES.join(", "),
+        Caps::PROFILES[0]
+    )
+}
+
+/// Turns a clap error into the one line the command line promises: clap's first line, its
+/// tips, and a pointer to `--help`, joined.
+fn one_line(err: &clap::Error) -> String {
+    let text = err.to_string();
+    let mut parts: Vec<&str> = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with("For more information") {
+            continue;
+        }
+        if line.starts_with("Usage:") {
+            break;
+        }
+        parts.push(line);
+    }
+    // Lines after one ending in ':' are a list (missing arguments): join them with commas.
+    let mut line = String::new();
+    let mut in_list = false;
+    for part in parts {
+        if line.ends_with(':') {
+            line.push(' ');
+            in_list = true;
+        } else if in_list && !part.starts_with("tip:") {
+            line.push_str(", ");
+        } else if !line.is_empty() {
+            line.push_str("; ");
+            in_list = false;
+        }
+        line.push_str(part);
+    }
+    if !line.starts_with("error:") {
+        line = format!("error: {line}");
+    }
+    format!("{line}; see 'pointillist --help'")
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(err) => {
+            return match err.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    // Help and version go to standard output and succeed.
+                    let _ = err.print();
+                    ExitCode::SUCCESS
+                }
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    eprintln!(
+                        "error: no command given: use 'pointillist render SCENE -o OUT.png' or \
+                         'pointillist caps'; see 'pointillist --help'"
+                    );
+                    ExitCode::from(2)
+                }
+                _ => {
+                    eprintln!("{}", one_line(&err));
+                    ExitCode::from(2)
+                }
+            };
+        }
+    };
+    let result = match &cli.command {
+        Command::Render(args) => render::run(args),
+        Command::Caps(args) => caps::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            // A message is one line by contract; fold any stray line break a library put in.
+            let message: Vec<&str> = message
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .collect();
+            eprintln!("error: {}", message.join("; "));
+            ExitCode::FAILURE
+        }
+    }
+}

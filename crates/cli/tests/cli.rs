@@ -1,0 +1,477 @@
+//! The `pointillist` binary as a user meets it: exit status, standard output and error, and the
+//! files it writes (SCENE.md, "Command line").
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A scratch folder under the system temp dir, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        static NEXT: AtomicUsize = AtomicUsize::new(0);
+        let n = NEXT.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!(
+            "pointillist-cli-test-{}-{n}-{name}",
+            std::process::id()
+        ));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+
+    fn write(&self, name: &str, contents: &str) -> PathBuf {
+        let path = self.0.join(name);
+        fs::write(&path, contents).unwrap();
+        path
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+
+    /// Names of the files in the folder, sorted.
+    fn listing(&self) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(&self.0)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
+}
+
+fn pointillist(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pointillist"))
+        .args(args)
+        .output()
+        .expect("the pointillist binary runs")
+}
+
+fn path_arg(p: &Path) -> &str {
+    p.to_str().expect("temp paths are UTF-8")
+}
+
+fn stdout(out: &Output) -> String {
+    String::from_utf8(out.stdout.clone()).expect("stdout is UTF-8")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8(out.stderr.clone()).expect("stderr is UTF-8")
+}
+
+/// Asserts a failure: non-zero status and exactly one line `error: ...` on standard error, which
+/// is returned.
+fn one_error_line(out: &Output) -> String {
+    assert!(
+        !out.status.success(),
+        "expected failure, got {:?}",
+        out.status
+    );
+    assert_ne!(
+        out.status.code(),
+        None,
+        "killed by a signal: {:?}",
+        out.status
+    );
+    let err = stderr(out);
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "expected one stderr line, got:\n{err}");
+    assert!(err.ends_with('\n'), "{err:?}");
+    assert!(lines[0].starts_with("error: "), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    lines[0].to_string()
+}
+
+/// 8x8 target cleared to half-transparent blue; one unblended 3-pixel red point, alpha 0x7F, at
+/// pixel (4, 4): SPEC 4.1 covers columns and rows 3..=5.
+const SQUARE: &str = r#"
+format = 1
+[target]
+width = 8
+height = 8
+clear = 0x800000FF
+
+[states]
+POINTSIZE = 3.0
+
+[[draw]]
+fvf = "XYZRHW | DIFFUSE"
+vertices = [[4.0, 4.0, 0.5, 1.0, 0x7FFF0000]]
+"#;
+
+/// The RGBA8 pixels and size of a PNG file, checking it is 8-bit RGBA (IHDR colour type 6).
+fn read_rgba8_png(path: &Path) -> (u32, u32, Vec<u32>) {
+    let bytes = fs::read(path).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    assert_eq!(bytes[24], 8, "bit depth");
+    assert_eq!(bytes[25], 6, "colour type RGBA");
+    let texture = pointillist_image::png::load_png(&bytes).unwrap();
+    let level = &texture.levels()[0];
+    (level.width, level.height, level.texels.clone())
+}
+
+#[test]
+fn render_writes_the_targets_exact_pixels_alpha_included() {
+    let dir = TempDir::new("square");
+    let scene = dir.write("square.toml", SQUARE);
+    let png = dir.path("square.png");
+    let out = pointillist(&["render", path_arg(&scene), "-o", path_arg(&png)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(stderr(&out), "");
+    assert!(stdout(&out).contains("square.png"), "{}", stdout(&out));
+
+    let (width, height, pixels) = read_rgba8_png(&png);
+    assert_eq!((width, height), (8, 8));
+    for y in 0..8u32 {
+        for x in 0..8u32 {
+            let inside = (3..=5).contains(&x) && (3..=5).contains(&y);
+            let expected = if inside { 0x7FFF_0000 } else { 0x8000_00FF };
+            assert_eq!(
+                pixels[(y * 8 + x) as usize],
+                expected,
+                "pixel ({x}, {y}): {:08X}",
+                pixels[(y * 8 + x) as usize]
+            );
+        }
+    }
+    // Only the image is left behind: no temporary file.
+    assert_eq!(dir.listing(), ["square.png", "square.toml"]);
+}
+
+#[test]
+fn render_replaces_an_existing_output_and_accepts_backend_cpu() {
+    let dir = TempDir::new("replace");
+    let scene = dir.write("s.toml", SQUARE);
+    let png = dir.write("s.png", "old contents");
+    let out = pointillist(&[
+        "render",
+        path_arg(&scene),
+        "--output",
+        path_arg(&png),
+        "--backend",
+        "cpu",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(read_rgba8_png(&png).2[4 * 8 + 4], 0x7FFF_0000);
+}
+
+#[test]
+fn states_without_effect_on_points_are_warnings_naming_the_scene() {
+    let dir = TempDir::new("notices");
+    let scene = dir.write(
+        "fog.toml",
+        &SQUARE.replace("POINTSIZE = 3.0", "POINTSIZE = 3.0\nFOGENABLE = true"),
+    );
+    let png = dir.path("fog.png");
+    let out = pointillist(&["render", path_arg(&scene), "-o", path_arg(&png)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "warning: {}: render state FOGENABLE has no effect on points; ignored\n",
+            scene.display()
+        )
+    );
+    assert!(png.exists());
+}
+
+#[test]
+fn a_bad_scene_is_one_error_line_and_leaves_the_output_untouched() {
+    let dir = TempDir::new("bad");
+    let scene = dir.write(
+        "bad.toml",
+        "format = 1\n[target]\nwidth = 8\nheight = 8\n[states]\nPOINTSIZE = \"big\"\n",
+    );
+    let precious = b"\x89PNG not really, but precious".to_vec();
+    let png = dir.path("out.png");
+    fs::write(&png, &precious).unwrap();
+    let out = pointillist(&["render", path_arg(&scene), "-o", path_arg(&png)]);
+    let line = one_error_line(&out);
+    assert!(
+        line.contains(&format!("{}:6:13: states.POINTSIZE: ", scene.display())),
+        "{line}"
+    );
+    assert_eq!(fs::read(&png).unwrap(), precious);
+    assert_eq!(dir.listing(), ["bad.toml", "out.png"]);
+    assert_eq!(stdout(&out), "");
+}
+
+#[test]
+fn an_unknown_key_names_file_line_column_and_key() {
+    let dir = TempDir::new("unknown-key");
+    let scene = dir.write(
+        "typo.toml",
+        "format = 1\n[target]\nwidth = 8\nheight = 8\n\n[[draw]]\nfvf = \"XYZ\"\nvertices = []\nverticse = []\n",
+    );
+    let png = dir.path("typo.png");
+    let line = one_error_line(&pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        path_arg(&png),
+    ]));
+    assert!(line.contains(&format!("{}:9:", scene.display())), "{line}");
+    assert!(line.contains("draw[0].verticse"), "{line}");
+    assert!(!png.exists());
+}
+
+#[test]
+fn a_missing_scene_file_is_one_error_line() {
+    let dir = TempDir::new("missing");
+    let scene = dir.path("nope.toml");
+    let png = dir.path("nope.png");
+    let line = one_error_line(&pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        path_arg(&png),
+    ]));
+    assert!(line.contains("nope.toml"), "{line}");
+    assert!(dir.listing().is_empty());
+}
+
+#[test]
+fn an_unwritable_output_is_one_error_line() {
+    let dir = TempDir::new("unwritable");
+    let scene = dir.write("s.toml", SQUARE);
+    let png = dir.path("no/such/folder/s.png");
+    let line = one_error_line(&pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        path_arg(&png),
+    ]));
+    assert!(line.contains("s.png"), "{line}");
+    // A folder in the way of the output: the rename fails and the folder stays.
+    let folder = dir.path("taken.png");
+    fs::create_dir(&folder).unwrap();
+    one_error_line(&pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        path_arg(&folder),
+    ]));
+    assert!(folder.is_dir());
+    assert_eq!(dir.listing(), ["s.toml", "taken.png"]);
+}
+
+#[test]
+fn usage_errors_are_one_line() {
+    let line = one_error_line(&pointillist(&["render", "--frobnicate"]));
+    assert!(line.contains("--frobnicate"), "{line}");
+    let line = one_error_line(&pointillist(&["paint"]));
+    assert!(line.contains("paint"), "{line}");
+    let line = one_error_line(&pointillist(&[]));
+    assert!(line.contains("render"), "{line}");
+    let line = one_error_line(&pointillist(&["render", "scene.toml"]));
+    assert!(line.contains("--output"), "{line}");
+    let line = one_error_line(&pointillist(&[
+        "render",
+        "s.toml",
+        "-o",
+        "s.png",
+        "--backend",
+        "vulkan",
+    ]));
+    assert!(line.contains("vulkan") && line.contains("cpu"), "{line}");
+    let line = one_error_line(&pointillist(&["caps", "--profile", "voodoo"]));
+    assert!(
+        line.contains("voodoo") && line.contains("single_pixel"),
+        "{line}"
+    );
+}
+
+#[test]
+fn the_gpu_backend_is_a_clear_error() {
+    const GPU: &str =
+        "error: the GPU backend is not built yet (issue: GPU backend on wgpu); use --backend cpu";
+    let dir = TempDir::new("gpu");
+    let scene = dir.write("s.toml", SQUARE);
+    let png = dir.path("s.png");
+    let out = pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        path_arg(&png),
+        "--backend",
+        "gpu",
+    ]);
+    assert_eq!(one_error_line(&out), GPU);
+    assert!(!png.exists());
+    assert_eq!(
+        one_error_line(&pointillist(&["caps", "--backend", "gpu"])),
+        GPU
+    );
+}
+
+/// The values of the rows of `caps` output whose first word is `name`, in order.
+fn caps_values(text: &str, name: &str) -> Vec<String> {
+    text.lines()
+        .filter(|l| l.split_whitespace().next() == Some(name))
+        .filter_map(|l| l.split_whitespace().nth(1).map(str::to_string))
+        .collect()
+}
+
+#[test]
+fn caps_prints_the_reference_profile_by_default() {
+    let out = pointillist(&["caps"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert_eq!(caps_values(&text, "MaxPointSize"), ["8192"], "{text}");
+    assert_eq!(caps_values(&text, "D3DFVFCAPS_PSIZE"), ["yes"], "{text}");
+    assert_eq!(
+        caps_values(&text, "D3DPMISCCAPS_CLIPPLANESCALEDPOINTS"),
+        ["yes"],
+        "{text}"
+    );
+    for profile in [
+        "reference",
+        "no_per_vertex_size",
+        "single_pixel",
+        "vertex_position_clip",
+        "software",
+    ] {
+        assert_eq!(
+            text.lines()
+                .filter(|l| l.split_whitespace().next() == Some(profile))
+                .count(),
+            1,
+            "{profile} listed once in\n{text}"
+        );
+    }
+}
+
+#[test]
+fn caps_of_old_hardware_profiles() {
+    let out = pointillist(&["caps", "--profile", "single_pixel"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert_eq!(caps_values(&text, "MaxPointSize"), ["1"], "{text}");
+    assert_eq!(caps_values(&text, "D3DFVFCAPS_PSIZE"), ["no"], "{text}");
+
+    // Software vertex processing: the device's caps, then the effective ones (SPEC 6).
+    let out = pointillist(&["caps", "--profile", "Software"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert_eq!(caps_values(&text, "MaxPointSize"), ["1", "8192"], "{text}");
+    assert_eq!(
+        caps_values(&text, "D3DFVFCAPS_PSIZE"),
+        ["no", "yes"],
+        "{text}"
+    );
+}
+
+#[test]
+fn caps_of_a_scene_apply_its_overrides() {
+    let dir = TempDir::new("caps-scene");
+    let scene = dir.write(
+        "old.toml",
+        "format = 1\n[target]\nwidth = 4\nheight = 4\n[caps]\nprofile = \"no_per_vertex_size\"\nmax_point_size = 32.0\n",
+    );
+    let out = pointillist(&["caps", path_arg(&scene)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert_eq!(caps_values(&text, "MaxPointSize"), ["32"], "{text}");
+    assert_eq!(caps_values(&text, "D3DFVFCAPS_PSIZE"), ["no"], "{text}");
+}
+
+#[test]
+fn help_and_version_succeed_on_stdout() {
+    let out = pointillist(&["--help"]);
+    assert!(out.status.success());
+    let text = stdout(&out);
+    assert!(text.contains("D3DRS_POINTSIZE"), "{text}");
+    assert!(
+        text.contains("pointillist render scenes/ring.toml -o ring.png"),
+        "{text}"
+    );
+    assert!(text.contains("shared/SCENE.md"), "{text}");
+
+    let out = pointillist(&["render", "--help"]);
+    assert!(out.status.success());
+    assert!(stdout(&out).contains("--backend"), "{}", stdout(&out));
+
+    let out = pointillist(&["--version"]);
+    assert!(out.status.success());
+    assert_eq!(
+        stdout(&out),
+        format!("pointillist {}\n", env!("CARGO_PKG_VERSION"))
+    );
+}
+
+/// The repository's root folder.
+fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The body of the README's first fenced block whose info string is `lang`.
+fn readme_block(lang: &str) -> String {
+    let readme = fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let fence = format!("```{lang}\n");
+    let start = readme.find(&fence).expect("the README has the block") + fence.len();
+    let len = readme[start..].find("```\n").expect("the block ends");
+    readme[start..start + len].to_string()
+}
+
+#[test]
+fn the_readme_library_example_is_the_cpu_crates_doc_test() {
+    let lib = fs::read_to_string(repo_root().join("crates/cpu/src/lib.rs")).unwrap();
+    let docs: Vec<&str> = lib
+        .lines()
+        .take_while(|l| l.starts_with("//!"))
+        .map(|l| {
+            l.strip_prefix("//! ")
+                .unwrap_or(l.trim_start_matches("//!"))
+        })
+        .collect();
+    let start = docs
+        .iter()
+        .position(|l| *l == "```")
+        .expect("a doc example")
+        + 1;
+    let len = docs[start..].iter().position(|l| *l == "```").unwrap();
+    let mut example = docs[start..start + len].join("\n");
+    example.push('\n');
+    assert_eq!(readme_block("rust"), example);
+}
+
+#[test]
+fn the_readme_scene_draws_what_the_library_example_asserts() {
+    let dir = TempDir::new("readme");
+    let scene = dir.write("readme.toml", &readme_block("toml"));
+    let png = dir.path("readme.png");
+    let out = pointillist(&["render", path_arg(&scene), "-o", path_arg(&png)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let (width, height, pixels) = read_rgba8_png(&png);
+    assert_eq!((width, height), (128, 128));
+    let pixel = |x: usize, y: usize| pixels[y * 128 + x];
+    assert_eq!(pixel(57, 64), 0xFFFF_0000);
+    assert_eq!(pixel(71, 71), 0xFFFF_0000);
+    assert_eq!(pixel(56, 64), 0xFF00_0000);
+    assert_eq!(pixel(72, 64), 0xFF00_0000);
+}
+
+#[test]
+fn the_readme_picture_is_what_the_readme_command_renders() {
+    let dir = TempDir::new("ring");
+    let png = dir.path("ring.png");
+    let scene = repo_root().join("scenes/ring.toml");
+    let out = pointillist(&["render", path_arg(&scene), "-o", path_arg(&png)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let picture = repo_root().join("docs/images/ring.png");
+    assert!(
+        read_rgba8_png(&png) == read_rgba8_png(&picture),
+        "docs/images/ring.png is not what scenes/ring.toml renders; regenerate it with \
+         `cargo run --release -p pointillist-cli -- render scenes/ring.toml -o docs/images/ring.png`"
+    );
+}
