@@ -8,6 +8,7 @@
 //!
 //! This file holds the argument grammar and the dispatch; [`render`] and [`caps`] do the work.
 
+mod bench;
 mod caps;
 mod render;
 
@@ -100,6 +101,9 @@ enum Command {
     /// Print the device caps a scene would get (MaxPointSize, D3DFVFCAPS_PSIZE, ...).
     #[command(long_about = CAPS_LONG_ABOUT, after_help = CAPS_EXAMPLES)]
     Caps(CapsArgs),
+    /// Time the performance workloads W1-W4, optionally beside Mesa llvmpipe.
+    #[command(long_about = bench::LONG_ABOUT)]
+    Bench(bench::BenchArgs),
 }
 
 /// Which backend draws.
@@ -234,6 +238,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Render(args) => render::run(args),
         Command::Caps(args) => caps::run(args),
+        Command::Bench(args) => bench::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
