@@ -563,7 +563,7 @@ impl<B: Backend> Device<B> {
     pub fn draw_point_list(&mut self, fvf: Fvf, vertices: &[u8]) -> Result<(), DeviceError> {
         let fvf = fvf.validate()?;
         let stride = fvf.stride();
-        if vertices.len() % stride != 0 {
+        if !vertices.len().is_multiple_of(stride) {
             return Err(DeviceError::VertexBufferLength {
                 len: vertices.len(),
                 stride,
