@@ -368,7 +368,7 @@ fn sanitize(u: f32) -> f32 {
 
 /// Applies an address mode to texel index `k` along an axis of `n` texels; `None` means the
 /// border colour.
-#[inline]
+#[inline(always)]
 fn address(mode: TextureAddress, k: i64, n: i64) -> Option<usize> {
     if (0..n).contains(&k) {
         return Some(k as usize); // every mode maps an index inside the texture to itself
@@ -395,7 +395,7 @@ fn address(mode: TextureAddress, k: i64, n: i64) -> Option<usize> {
 }
 
 /// The texel (k, l) of a level after addressing, as a D3DCOLOR.
-#[inline]
+#[inline(always)]
 fn fetch(level: &Level, s: &SamplerDesc, k: i64, l: i64) -> u32 {
     match (
         address(s.address_u, k, i64::from(level.width)),
@@ -441,6 +441,16 @@ fn sample_level(level: &Level, s: &SamplerDesc, u: f32, v: f32, linear: bool) ->
     let l = floor_i64(y);
     let fx = x - k as f32;
     let fy = y - l as f32;
+    let (w, h) = (i64::from(level.width), i64::from(level.height));
+    if k >= 0 && l >= 0 && k + 1 < w && l + 1 < h {
+        // All four texels inside: every address mode leaves the indices as they are.
+        let at = l as usize * level.width as usize + k as usize;
+        let below = at + level.width as usize;
+        let t = &level.texels;
+        let (t00, t10) = (color::unpack(t[at]), color::unpack(t[at + 1]));
+        let (t01, t11) = (color::unpack(t[below]), color::unpack(t[below + 1]));
+        return lerp(lerp(t00, t10, fx), lerp(t01, t11, fx), fy);
+    }
     let t00 = color::unpack(fetch(level, s, k, l));
     let t10 = color::unpack(fetch(level, s, k + 1, l));
     let t01 = color::unpack(fetch(level, s, k, l + 1));
