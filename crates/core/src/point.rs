@@ -59,8 +59,16 @@ pub fn clamp_bounds(size_min: f32, size_max: f32, max_point_size: f32) -> (f32, 
 /// `start..end`, saturating at the i32 range.
 #[inline]
 pub fn covered_range(lo: f32, hi: f32) -> (i32, i32) {
-    // `as` saturates and maps NaN to 0; callers only pass finite edges.
-    (lo.ceil() as i32, hi.ceil() as i32)
+    (ceil_i32(lo), ceil_i32(hi))
+}
+
+/// `x.ceil() as i32` (saturating, NaN to 0) without a libm call: f32 values of 2^24 and more
+/// are integers already, smaller ones convert to i64 exactly.
+#[inline]
+fn ceil_i32(x: f32) -> i32 {
+    let t = x as i64;
+    let c = if (t as f32) < x { t.saturating_add(1) } else { t };
+    c.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
 }
 
 /// SPEC 4.3: a sprite's texture coordinate at pixel centre `k`, for the square's near edge
@@ -508,6 +516,28 @@ mod tests {
         assert_eq!(span(30.75), (49, 80));
         assert_eq!(span(0.0), (64, 64)); // SPEC 2.5: size 0 covers nothing
         assert_eq!(span(2.0), (63, 65)); // top-left rule: left edge in, right edge out
+    }
+
+    #[test]
+    fn ceil_matches_the_float_ceil() {
+        let cases = [
+            0.0, -0.0, 0.5, -0.5, 1.0, 63.5, -63.5, 1e9, -1e9, 3e10, -3e10, 1e-40,
+        ];
+        for x in cases
+            .into_iter()
+            .chain((-3000..3000).map(|k| k as f32 / 7.0))
+        {
+            assert_eq!(ceil_i32(x), x.ceil() as i32, "{x}");
+        }
+        for x in [
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN,
+        ] {
+            assert_eq!(ceil_i32(x), x.ceil() as i32, "{x}");
+        }
     }
 
     #[test]

@@ -43,19 +43,19 @@ impl Blender for Replace {
     }
 }
 
-/// ONE, ONE, ADD: a saturating byte add, exactly what the float formula rounds to.
+/// ONE, ONE, ADD: a saturating byte add, exactly what the float formula rounds to, done on all
+/// four channels at once within a u32.
 struct Additive;
 impl Blender for Additive {
     #[inline(always)]
     fn blend(&self, src: u32, dst: u32) -> u32 {
-        let s = src.to_le_bytes();
-        let d = dst.to_le_bytes();
-        u32::from_le_bytes([
-            s[0].saturating_add(d[0]),
-            s[1].saturating_add(d[1]),
-            s[2].saturating_add(d[2]),
-            s[3].saturating_add(d[3]),
-        ])
+        const HIGH: u32 = 0x8080_8080;
+        // Add the low 7 bits of each byte, then put each byte's top bit back in.
+        let low = (src & !HIGH) + (dst & !HIGH);
+        let sum = low ^ ((src ^ dst) & HIGH);
+        // A byte carried out when both top bits were set, or one was and the low add carried.
+        let carry = ((src & dst) | ((src | dst) & !sum)) & HIGH;
+        sum | ((carry >> 7) * 0xFF)
     }
 }
 
