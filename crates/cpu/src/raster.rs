@@ -309,6 +309,17 @@ fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut B
     }
     let r = p.rect;
     let planes = p.pixel_planes();
+    if planes.is_empty() && ctx.pixel.depth.is_none() {
+        // The common particle case: whole rows, blend and mask only.
+        let mask = ctx.pixel.write_mask;
+        for j in rows(p, band) {
+            let row = (j - band.y0) as usize * band.width;
+            for px in &mut band.color[row + r.x0 as usize..row + r.x1 as usize] {
+                *px = write_masked(mask, b.blend(color, *px), *px);
+            }
+        }
+        return;
+    }
     for j in rows(p, band) {
         let row = (j - band.y0) as usize * band.width;
         for i in r.x0..r.x1 {
