@@ -67,7 +67,11 @@ pub fn covered_range(lo: f32, hi: f32) -> (i32, i32) {
 #[inline]
 fn ceil_i32(x: f32) -> i32 {
     let t = x as i64;
-    let c = if (t as f32) < x { t.saturating_add(1) } else { t };
+    let c = if (t as f32) < x {
+        t.saturating_add(1)
+    } else {
+        t
+    };
     c.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
 }
 
