@@ -1,4 +1,4 @@
-//! Property tests of the point pipeline on the CPU backend:
+//! Property tests of the point pipeline on both backends (`pointillist_testkit`):
 //! (a) coverage of pre-transformed points equals the SPEC 4.1 count, computed independently;
 //! (b) the size formula agrees with an f64 evaluation, alone and end to end;
 //! (c) no state or vertex value makes a draw fail, panic, or write a non-finite depth.
@@ -264,7 +264,7 @@ proptest! {
     #[test]
     fn any_values_draw_without_failing(c in chaos()) {
         let caps = Caps::profile(Caps::PROFILES[c.profile]).unwrap();
-        let mut d = pointillist_cpu::device(DeviceDesc { caps, ..DeviceDesc::new(32, 24) })
+        let mut d = pointillist_testkit::device(DeviceDesc { caps, ..DeviceDesc::new(32, 24) })
             .unwrap();
         let size_states = [
             Rs::POINTSIZE,

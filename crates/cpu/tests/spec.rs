@@ -1,6 +1,8 @@
-//! SPEC.md sections 2 to 6, rule by rule, through the public device API of the CPU backend.
+//! SPEC.md sections 2 to 6, rule by rule, through the public device API, on both backends.
 //!
-//! Every test draws with `pointillist_cpu::device` and checks real pixels (or depths, or state
+//! Every test draws with `pointillist_testkit::device` (the CPU backend and, with an adapter,
+//! the GPU backend, compared at each read within SPEC 7's tolerance) and checks real pixels
+//! (or depths, or state
 //! read-back). Expected values are worked out by hand from the SPEC formulas, in f64 where
 //! arithmetic is involved; nothing here calls the core function it checks.
 
@@ -19,7 +21,6 @@ use pointillist_core::states::{
     TextureFilter, TextureOp, TextureStageState, ZBufferType,
 };
 use pointillist_core::texture::{Level, Texture};
-use pointillist_cpu::CpuDevice;
 
 type Rs = RenderState;
 type Tss = TextureStageState;
@@ -47,7 +48,7 @@ fn translate(x: f32, y: f32, z: f32) -> Mat4 {
 fn rhw_pixels(
     w: u32,
     h: u32,
-    setup: impl FnOnce(&mut CpuDevice),
+    setup: impl FnOnce(&mut TestDevice),
     x: f32,
     y: f32,
 ) -> BTreeSet<(u32, u32)> {
@@ -147,7 +148,7 @@ fn spec_2_2_scale_uses_viewport_height_not_target_height_or_width() {
 }
 
 /// 128x128 target; projection x/8, y/8, z/16 so that eye positions of a few units are visible.
-fn eye_device() -> CpuDevice {
+fn eye_device() -> TestDevice {
     let mut d = dev(128, 128);
     d.set_transform(TransformType::Projection, scale(0.125, 0.125, 0.0625));
     d.set_render_state(Rs::POINTSCALEENABLE, true);
@@ -487,16 +488,16 @@ fn spec_2_4_max_point_size_at_most_one_draws_one_pixel() {
             max_point_size: max,
             ..Caps::reference()
         };
-        let setups: [&dyn Fn(&mut CpuDevice); 6] = [
-            &|d: &mut CpuDevice| d.set_render_state(Rs::POINTSIZE, 20.0f32),
-            &|d: &mut CpuDevice| {
+        let setups: [&dyn Fn(&mut TestDevice); 6] = [
+            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE, 20.0f32),
+            &|d: &mut TestDevice| {
                 d.set_render_state(Rs::POINTSIZE, 0.0f32);
                 d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
             },
-            &|d: &mut CpuDevice| d.set_render_state(Rs::POINTSIZE, f32::NAN),
-            &|d: &mut CpuDevice| d.set_render_state(Rs::POINTSIZE_MIN, 10.0f32),
-            &|d: &mut CpuDevice| d.set_render_state(Rs::POINTSIZE_MAX, 0.0f32),
-            &|d: &mut CpuDevice| {
+            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE, f32::NAN),
+            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE_MIN, 10.0f32),
+            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE_MAX, 0.0f32),
+            &|d: &mut TestDevice| {
                 d.set_render_state(Rs::POINTSCALEENABLE, true);
                 d.set_render_state(Rs::POINTSIZE, 50.0f32);
             },
@@ -1081,7 +1082,7 @@ fn spec_3_2_pixels_are_scissored_to_a_smaller_viewport() {
 // 3.3 user clip planes
 
 /// 64x64 device, size-15 points, plane `plane` set at index `index` and enabled alone.
-fn plane_device(caps: Caps, index: usize, plane: [f32; 4]) -> CpuDevice {
+fn plane_device(caps: Caps, index: usize, plane: [f32; 4]) -> TestDevice {
     let mut d = dev_caps(64, 64, caps);
     d.set_render_state(Rs::POINTSIZE, 15.0f32);
     d.set_clip_plane(index, plane).unwrap();
@@ -1461,7 +1462,7 @@ fn texel4(x: u32, y: u32) -> u32 {
 /// The clear colour of [`sprite_device`]: no texel of [`grid4`] has a blue channel of 0xFF.
 const BLUE: u32 = 0xFF00_00FF;
 
-fn sprite_device(w: u32, h: u32) -> CpuDevice {
+fn sprite_device(w: u32, h: u32) -> TestDevice {
     let mut d = dev_api(w, h, Api::D3d9, BLUE);
     d.set_render_state(Rs::POINTSPRITEENABLE, true);
     d.set_texture(0, Some(grid4())).unwrap();
@@ -1626,7 +1627,7 @@ fn assert_color(got: u32, want: [f64; 4], what: &str) {
 
 /// A device whose stage 0 leaves CURRENT = (D.rgb, S.a) and whose stage 1 has the 1x1 texture
 /// T bound; vertices carry D and S. Draws one point and returns its colour.
-fn two_stage(setup: impl FnOnce(&mut CpuDevice)) -> u32 {
+fn two_stage(setup: impl FnOnce(&mut TestDevice)) -> u32 {
     let mut d = dev(4, 4);
     d.set_render_state(Rs::TEXTUREFACTOR, F);
     d.set_texture(1, Some(tex(1, 1, vec![T]))).unwrap();
@@ -2137,7 +2138,7 @@ fn spec_5_1_no_lighting_fog_or_culling_on_points() {
 // 5.2 sampling
 
 /// Draws one untextured-sprite-off point with vertex coordinates (u, v) and returns its colour.
-fn sample_at(t: std::sync::Arc<Texture>, setup: &dyn Fn(&mut CpuDevice), u: f32, v: f32) -> u32 {
+fn sample_at(t: std::sync::Arc<Texture>, setup: &dyn Fn(&mut TestDevice), u: f32, v: f32) -> u32 {
     let mut d = dev(4, 4);
     d.set_texture(0, Some(t)).unwrap();
     stage(
@@ -2168,7 +2169,7 @@ fn spec_5_2_point_sampling_takes_floor() {
         );
     }
     // Vertex coordinates: texel k covers [k/4, (k+1)/4).
-    let none = |_: &mut CpuDevice| {};
+    let none = |_: &mut TestDevice| {};
     for (u, k) in [
         (0.0f32, 0),
         (0.2499, 0),
@@ -2214,7 +2215,7 @@ fn spec_5_2_linear_filtering_uses_texel_centres() {
         assert_eq!(t.pixel(4 + k as u32, 1), want, "k {k}");
     }
     // Vertex coordinates at a texel centre give the texel; half way between gives the mean.
-    let lin = |d: &mut CpuDevice| {
+    let lin = |d: &mut TestDevice| {
         for s in [SamplerState::MINFILTER, SamplerState::MAGFILTER] {
             d.set_sampler_state(0, s, TextureFilter::Linear).unwrap();
         }
@@ -2295,7 +2296,7 @@ fn spec_5_2_address_modes() {
     for (mode, want) in modes {
         for (u, w) in us.iter().zip(want) {
             // Along u (V wraps over the 4x4 grid at v = 0.1 -> row 0).
-            let set_u = |d: &mut CpuDevice| {
+            let set_u = |d: &mut TestDevice| {
                 d.set_sampler_state(0, SamplerState::ADDRESSU, mode)
                     .unwrap();
                 d.set_sampler_state(0, SamplerState::BORDERCOLOR, border)
@@ -2304,7 +2305,7 @@ fn spec_5_2_address_modes() {
             let got = sample_at(grid4(), &set_u, *u, 0.1);
             assert_eq!(got, w.map_or(border, |k| texel4(k, 0)), "{mode:?} u {u}");
             // Along v.
-            let set_v = |d: &mut CpuDevice| {
+            let set_v = |d: &mut TestDevice| {
                 d.set_sampler_state(0, SamplerState::ADDRESSV, mode)
                     .unwrap();
                 d.set_sampler_state(0, SamplerState::BORDERCOLOR, border)
@@ -2319,7 +2320,7 @@ fn spec_5_2_address_modes() {
 #[test]
 fn spec_5_2_border_colour() {
     let border = |c: u32| {
-        move |d: &mut CpuDevice| {
+        move |d: &mut TestDevice| {
             d.set_sampler_state(0, SamplerState::ADDRESSU, TextureAddress::Border)
                 .unwrap();
             d.set_sampler_state(0, SamplerState::ADDRESSV, TextureAddress::Border)
@@ -2334,7 +2335,7 @@ fn spec_5_2_border_colour() {
         assert_eq!(sample_at(grid4(), &border(c), 0.5, 0.5), texel4(2, 2));
     }
     // Default BORDERCOLOR is 0.
-    let b = |d: &mut CpuDevice| {
+    let b = |d: &mut TestDevice| {
         d.set_sampler_state(0, SamplerState::ADDRESSU, TextureAddress::Border)
             .unwrap();
     };
@@ -2532,7 +2533,7 @@ fn spec_5_4_depth_test_functions() {
         (Cmp::Always, [true, true, true]),
     ];
     for (func, pass) in funcs {
-        let mut d = pointillist_cpu::device(DeviceDesc {
+        let mut d = pointillist_testkit::device(DeviceDesc {
             clear_depth: 0.5,
             ..DeviceDesc::new(8, 2)
         })
@@ -2640,7 +2641,7 @@ fn combine_f64(op: BlendOp, s: f64, fs: f64, d: f64, fd: f64) -> f64 {
 }
 
 /// Draws SRC over a target cleared to `dst` with the blend states `setup` and returns the pixel.
-fn blended(dst: u32, setup: impl FnOnce(&mut CpuDevice)) -> u32 {
+fn blended(dst: u32, setup: impl FnOnce(&mut TestDevice)) -> u32 {
     let mut d = dev_api(2, 2, Api::D3d9, dst);
     d.set_render_state(Rs::ALPHABLENDENABLE, true);
     d.set_render_state(Rs::BLENDFACTOR, FACTOR);
@@ -2805,7 +2806,7 @@ fn spec_5_5_bothsrcalpha_and_bothinvsrcalpha_override_destblend() {
 fn spec_5_5_separate_alpha_blend() {
     let (s, d) = (ch(SRC), ch(DST));
     // Colour: SRCALPHA / INVSRCALPHA, ADD. Alpha: ONE / ONE, REVSUBTRACT.
-    let setup = |dev: &mut CpuDevice, separate: bool| {
+    let setup = |dev: &mut TestDevice, separate: bool| {
         dev.set_render_state(Rs::SRCBLEND, Blend::SrcAlpha);
         dev.set_render_state(Rs::DESTBLEND, Blend::InvSrcAlpha);
         dev.set_render_state(Rs::SEPARATEALPHABLENDENABLE, separate);
@@ -2841,7 +2842,7 @@ fn spec_5_5_points_are_drawn_in_vertex_order() {
         let (s, d) = (ch(src), ch(dst));
         pack(std::array::from_fn(|k| s[k] * s[3] + d[k] * (1.0 - s[3])))
     };
-    let setup = |d: &mut CpuDevice| {
+    let setup = |d: &mut TestDevice| {
         d.set_render_state(Rs::ALPHABLENDENABLE, true);
         d.set_render_state(Rs::SRCBLEND, Blend::SrcAlpha);
         d.set_render_state(Rs::DESTBLEND, Blend::InvSrcAlpha);

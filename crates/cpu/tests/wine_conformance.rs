@@ -1,5 +1,6 @@
-//! The point-size conformance checks of Wine's public D3D visual tests, replayed on the CPU
-//! backend.
+//! The point-size conformance checks of Wine's public D3D visual tests, replayed on both
+//! backends (`pointillist_testkit`: the GPU backend's target is compared with the CPU's at each
+//! read).
 //!
 //! Sources: `dlls/d3d9/tests/visual.c` and `dlls/d3d8/tests/visual.c` of the Wine project,
 //! function `test_pointsize` (called `pointsize_test` in older Wine). Those tests run on real
@@ -18,7 +19,6 @@ use pointillist_core::caps::Caps;
 use pointillist_core::device::{DeviceDesc, RenderTarget, TransformType};
 use pointillist_core::states::{Api, RenderState, TA_CURRENT, TA_TEXTURE, TextureOp};
 use pointillist_core::texture::Texture;
-use pointillist_cpu::CpuDevice;
 
 type Rs = RenderState;
 
@@ -59,8 +59,8 @@ fn point_match(t: &RenderTarget, x: u32, y: u32, r: u32) -> bool {
 
 /// The Part A device: a 640x480 D3D9 target cleared to blue, the pixel-space projection,
 /// LIGHTING FALSE.
-fn part_a_device(caps: Caps) -> CpuDevice {
-    let mut d = pointillist_cpu::device(DeviceDesc {
+fn part_a_device(caps: Caps) -> TestDevice {
+    let mut d = pointillist_testkit::device(DeviceDesc {
         caps,
         clear_color: A_CLEAR,
         ..DeviceDesc::new(640, 480)
@@ -72,12 +72,12 @@ fn part_a_device(caps: Caps) -> CpuDevice {
 }
 
 /// `DrawPrimitiveUP(D3DPT_POINTLIST, 1, &vertices[i], 12)` of a `D3DFVF_XYZ` vertex at z = 0.1.
-fn draw_xyz(d: &mut CpuDevice, x: f32, y: f32) {
+fn draw_xyz(d: &mut TestDevice, x: f32, y: f32) {
     draw(d, XYZ, &[f(x), f(y), f(0.1)]);
 }
 
 /// Draws one Part A point with POINTSIZE `size` (and `setup`) at (x, 64) on a fresh device.
-fn part_a_single(size: f32, setup: impl FnOnce(&mut CpuDevice), x: f32) -> RenderTarget {
+fn part_a_single(size: f32, setup: impl FnOnce(&mut TestDevice), x: f32) -> RenderTarget {
     let mut d = part_a_device(Caps::reference());
     d.set_render_state(Rs::POINTSIZE, size);
     setup(&mut d);
@@ -187,7 +187,7 @@ fn wine_a_whole_scene() {
             ..Caps::reference()
         };
         for api in [Api::D3d9, Api::D3d8] {
-            let mut d = pointillist_cpu::device(DeviceDesc {
+            let mut d = pointillist_testkit::device(DeviceDesc {
                 api,
                 caps,
                 clear_color: A_CLEAR,
@@ -257,7 +257,7 @@ fn wine_textures() -> (Arc<Texture>, Arc<Texture>) {
 
 /// Part B's texture setup: stage 0 SELECTARG1(TEXTURE) with tex1, stage 1 ADD(TEXTURE, CURRENT)
 /// with tex2; alpha ops at their defaults; POINTSPRITEENABLE TRUE.
-fn wine_sprite_states(d: &mut CpuDevice) {
+fn wine_sprite_states(d: &mut TestDevice) {
     use pointillist_core::states::TextureStageState as Tss;
     let (t1, t2) = wine_textures();
     d.set_texture(0, Some(t1)).unwrap();
@@ -332,7 +332,7 @@ const fn case(zero_size: bool, scale: bool, override_min: bool, psize: Option<f3
 /// POINTSIZE and POINTSIZE_MIN as the test sets them, cleared to cyan, one point at
 /// (64, 64, 0.1).
 fn part_c(api: Api, abc: f32, c: Case, width: u32, height: u32) -> RenderTarget {
-    let mut d = pointillist_cpu::device(DeviceDesc {
+    let mut d = pointillist_testkit::device(DeviceDesc {
         api,
         clear_color: C_CLEAR,
         ..DeviceDesc::new(width, height)

@@ -11,7 +11,10 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, TextureOp, TextureStageState};
 use pointillist_core::texture::Texture;
-use pointillist_cpu::CpuDevice;
+
+/// The device every test draws on: the CPU backend and, with an adapter, the GPU backend,
+/// compared at each read of the target (`pointillist_testkit`).
+pub type TestDevice = pointillist_testkit::DualDevice;
 
 /// Opaque black, the clear colour of [`DeviceDesc::new`].
 pub const BLACK: u32 = 0xFF00_0000;
@@ -42,13 +45,13 @@ pub fn bytes(words: &[u32]) -> Vec<u8> {
 }
 
 /// A D3D9 reference device with a `w` x `h` target cleared to opaque black, depth 1.
-pub fn dev(w: u32, h: u32) -> CpuDevice {
-    pointillist_cpu::device(DeviceDesc::new(w, h)).expect("device")
+pub fn dev(w: u32, h: u32) -> TestDevice {
+    pointillist_testkit::device(DeviceDesc::new(w, h)).expect("device")
 }
 
 /// A device with given caps.
-pub fn dev_caps(w: u32, h: u32, caps: Caps) -> CpuDevice {
-    pointillist_cpu::device(DeviceDesc {
+pub fn dev_caps(w: u32, h: u32, caps: Caps) -> TestDevice {
+    pointillist_testkit::device(DeviceDesc {
         caps,
         ..DeviceDesc::new(w, h)
     })
@@ -56,8 +59,8 @@ pub fn dev_caps(w: u32, h: u32, caps: Caps) -> CpuDevice {
 }
 
 /// A device with a given API profile and clear colour.
-pub fn dev_api(w: u32, h: u32, api: Api, clear: u32) -> CpuDevice {
-    pointillist_cpu::device(DeviceDesc {
+pub fn dev_api(w: u32, h: u32, api: Api, clear: u32) -> TestDevice {
+    pointillist_testkit::device(DeviceDesc {
         api,
         clear_color: clear,
         ..DeviceDesc::new(w, h)
@@ -66,17 +69,17 @@ pub fn dev_api(w: u32, h: u32, api: Api, clear: u32) -> CpuDevice {
 }
 
 /// Draws raw words as a point list of format `fvf`.
-pub fn draw(d: &mut CpuDevice, fvf: Fvf, words: &[u32]) {
+pub fn draw(d: &mut TestDevice, fvf: Fvf, words: &[u32]) {
     d.draw_point_list(fvf, &bytes(words)).expect("draw");
 }
 
 /// Draws one pre-transformed point at screen (x, y), depth z, rhw 1, with a diffuse colour.
-pub fn rhw_point(d: &mut CpuDevice, x: f32, y: f32, z: f32, diffuse: u32) {
+pub fn rhw_point(d: &mut TestDevice, x: f32, y: f32, z: f32, diffuse: u32) {
     draw(d, RHW_D, &[f(x), f(y), f(z), f(1.0), diffuse]);
 }
 
 /// Reads the target.
-pub fn target(d: &mut CpuDevice) -> RenderTarget {
+pub fn target(d: &mut TestDevice) -> RenderTarget {
     d.read_target().expect("read_target")
 }
 
@@ -179,7 +182,7 @@ pub fn pixel_space(w: f32, h: f32) -> Mat4 {
 }
 
 /// Sets the projection to [`pixel_space`] (WORLD and VIEW stay identity).
-pub fn set_pixel_space(d: &mut CpuDevice, w: f32, h: f32) {
+pub fn set_pixel_space(d: &mut TestDevice, w: f32, h: f32) {
     d.set_transform(TransformType::Projection, pixel_space(w, h));
 }
 
@@ -202,12 +205,12 @@ pub fn tex(w: u32, h: u32, texels: Vec<u32>) -> Arc<Texture> {
 
 /// Sets a stage's colour and alpha operations and their first two arguments.
 pub fn stage(
-    d: &mut CpuDevice,
+    d: &mut TestDevice,
     i: usize,
     color: (TextureOp, u32, u32),
     alpha: (TextureOp, u32, u32),
 ) {
-    let s = |d: &mut CpuDevice, st: TextureStageState, v: u32| {
+    let s = |d: &mut TestDevice, st: TextureStageState, v: u32| {
         d.set_texture_stage_state(i, st, v).expect("stage state");
     };
     s(d, TextureStageState::COLOROP, color.0 as u32);
@@ -219,6 +222,6 @@ pub fn stage(
 }
 
 /// Reads a float render state.
-pub fn rs_f32(d: &CpuDevice, s: RenderState) -> f32 {
+pub fn rs_f32(d: &TestDevice, s: RenderState) -> f32 {
     f32::from_bits(d.render_state(s))
 }

@@ -1,0 +1,470 @@
+//! The exact blending path: draws whose blend multiplies by fractional factors run as two
+//! compute passes that blend in a shader owning each pixel (`exact.wgsl`).
+//!
+//! Contract:
+//! - A GPU's fixed-function blender rounds each blend to 8 bits on its own terms (lavapipe
+//!   rounds the two products separately: 1/255 off in a quarter of the channels of one
+//!   SRCALPHA/INVSRCALPHA blend), and every later blend of the same pixel carries the
+//!   difference on: 13/255 in a pile of smoke particles. [`needs_exact`] picks the draws where
+//!   that can happen; [`draw`] renders them with core's arithmetic instead (the per-point stage,
+//!   the cascade, alpha test, depth test and write, `pixel::blend`, the write mask), so they
+//!   match the CPU backend as exactly as the other draws do.
+//! - The draw runs between copies of the target: colour and depth are copied into storage
+//!   buffers, `cs_points` writes one record per point, `cs_tiles` walks every 16x16 tile's
+//!   points in vertex order, and the buffers are copied back (depth through a full-screen pass
+//!   writing `frag_depth`, since a depth texture cannot be a copy destination).
+//! - Draws larger than one records buffer are split, in vertex order.
+
+use std::sync::Arc;
+
+use pointillist_core::device::DeviceState;
+use pointillist_core::fvf::Fvf;
+use pointillist_core::pixel::BlendSetup;
+use pointillist_core::states::{Blend, BlendOp};
+
+use crate::context::{GpuContext, GpuError};
+use crate::pipeline::TargetDesc;
+use crate::renderer::PointRenderer;
+use crate::shader;
+
+/// Tile side of `cs_tiles`.
+const TILE: u32 = 16;
+/// Workgroup size of `cs_points`.
+const POINTS_PER_GROUP: u32 = 64;
+
+/// Copies the depth buffer of the exact path into the depth texture.
+const DEPTH_WRITER: &str = "
+struct Exact { width: u32, height: u32, pitch: u32, count: u32, }
+@group(0) @binding(0) var<uniform> X: Exact;
+@group(0) @binding(1) var<storage, read> DEPTH: array<f32>;
+
+@vertex
+fn vs(@builtin(vertex_index) v: u32) -> @builtin(position) vec4f {
+    let p = vec2f(f32((v << 1u) & 2u), f32(v & 2u));
+    return vec4f(p * 2.0 - 1.0, 0.0, 1.0);
+}
+
+@fragment
+fn fs(@builtin(position) pos: vec4f) -> @builtin(frag_depth) f32 {
+    return clamp(DEPTH[u32(pos.y) * X.pitch + u32(pos.x)], 0.0, 1.0);
+}
+";
+
+/// True when the exact path can hold a `width` x `height` target: its colour and depth
+/// buffers fit a storage binding of the device.
+pub(crate) fn fits(ctx: &GpuContext, width: u32, height: u32) -> bool {
+    let pitch = u64::from((width * 4).div_ceil(256) * 256);
+    pitch * u64::from(height) <= ctx.limits().max_storage_buffer_binding_size
+}
+
+/// True when blending `b` in fixed function could round differently from core's `blend`: a
+/// factor other than ZERO or ONE in a component whose operation uses the factors.
+pub(crate) fn needs_exact(b: &BlendSetup) -> bool {
+    let whole = |f: Blend| matches!(f, Blend::Zero | Blend::One);
+    let uses_factors = |op: BlendOp| !matches!(op, BlendOp::Min | BlendOp::Max);
+    (uses_factors(b.op) && !(whole(b.src) && whole(b.dst)))
+        || (uses_factors(b.op_alpha) && !(whole(b.src_alpha) && whole(b.dst_alpha)))
+}
+
+/// The layouts and the depth writer of the exact path, made once per context.
+pub(crate) struct ExactLayouts {
+    target_layout: wgpu::BindGroupLayout,
+    compute_layout: wgpu::PipelineLayout,
+    depth_layout: wgpu::BindGroupLayout,
+    depth_writer: wgpu::RenderPipeline,
+}
+
+/// The two compute pipelines of one key.
+#[derive(Clone, Debug)]
+pub(crate) struct ExactPipelines {
+    points: wgpu::ComputePipeline,
+    tiles: wgpu::ComputePipeline,
+}
+
+fn storage(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl ExactLayouts {
+    /// Layouts on `device`; `draw_layout` is group 0 of every point pipeline.
+    pub(crate) fn new(device: &wgpu::Device, draw_layout: &wgpu::BindGroupLayout) -> ExactLayouts {
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let target_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("pointillist exact target"),
+            entries: &[
+                uniform(0, compute),
+                storage(1, compute, false),
+                storage(2, compute, false),
+                storage(3, compute, false),
+            ],
+        });
+        let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("pointillist exact"),
+            bind_group_layouts: &[Some(draw_layout), Some(&target_layout)],
+            immediate_size: 0,
+        });
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("pointillist depth writer"),
+            entries: &[uniform(0, fragment), storage(1, fragment, true)],
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("pointillist depth writer"),
+            source: wgpu::ShaderSource::Wgsl(DEPTH_WRITER.into()),
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("pointillist depth writer"),
+            bind_group_layouts: &[Some(&depth_layout)],
+            immediate_size: 0,
+        });
+        let depth_writer = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("pointillist depth writer"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: crate::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: wgpu::StencilState::default(),
+                bias: wgpu::DepthBiasState::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs"),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        ExactLayouts {
+            target_layout,
+            compute_layout,
+            depth_layout,
+            depth_writer,
+        }
+    }
+
+    /// The compute pipelines of a generated module.
+    pub(crate) fn create_pipelines(&self, device: &wgpu::Device, source: &str) -> ExactPipelines {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("pointillist exact"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("pointillist exact"),
+                layout: Some(&self.compute_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            })
+        };
+        ExactPipelines {
+            points: pipeline("cs_points"),
+            tiles: pipeline("cs_tiles"),
+        }
+    }
+}
+
+/// The exact path's buffers for one target, kept across draws.
+pub(crate) struct ExactTarget {
+    /// Row pitch of the colour and depth buffers in words (rows 256-byte aligned for copies).
+    pitch: u32,
+    color: wgpu::Buffer,
+    depth: wgpu::Buffer,
+    params: wgpu::Buffer,
+    records: Option<wgpu::Buffer>,
+}
+
+impl ExactTarget {
+    fn new(ctx: &GpuContext, width: u32, height: u32) -> ExactTarget {
+        let pitch = (width * 4).div_ceil(256) * 64;
+        let plane = |label| {
+            ctx.device().create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: u64::from(pitch) * 4 * u64::from(height),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        ExactTarget {
+            pitch,
+            color: plane("pointillist exact colour"),
+            depth: plane("pointillist exact depth"),
+            params: ctx.device().create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pointillist exact params"),
+                size: 16,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            records: None,
+        }
+    }
+
+    fn records(&mut self, ctx: &GpuContext, bytes: u64) -> wgpu::Buffer {
+        match &self.records {
+            Some(b) if b.size() >= bytes => b.clone(),
+            _ => {
+                let limits = ctx.limits();
+                let cap = limits
+                    .max_storage_buffer_binding_size
+                    .min(limits.max_buffer_size);
+                let b = ctx.device().create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("pointillist exact records"),
+                    size: bytes.next_power_of_two().max(4096).min(cap).max(bytes),
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                });
+                self.records = Some(b.clone());
+                b
+            }
+        }
+    }
+}
+
+/// The textures and size of the target an exact draw renders into.
+pub(crate) struct TargetTextures<'a> {
+    pub desc: TargetDesc,
+    pub color: &'a wgpu::Texture,
+    pub depth: &'a wgpu::Texture,
+    pub depth_view: &'a wgpu::TextureView,
+}
+
+/// Draws `vertices` with `state` through the exact path, in as many batches as the records
+/// buffer needs, each a submission of its own.
+pub(crate) fn draw(
+    renderer: &mut PointRenderer,
+    exact: &mut Option<ExactTarget>,
+    target: &TargetTextures<'_>,
+    state: &DeviceState,
+    fvf: Fvf,
+    vertices: &[u8],
+) -> Result<(), GpuError> {
+    let ctx = Arc::clone(renderer.context());
+    let (width, height) = (target.desc.width, target.desc.height);
+    let ex = match exact {
+        Some(e) => e,
+        None => exact.insert(ctx.scoped(|| ExactTarget::new(&ctx, width, height))?),
+    };
+    let stride = fvf.stride();
+    let limits = ctx.limits();
+    // Records of at most 16 + 8 + 18 words; a batch fits the bindings and one dispatch.
+    let record_bytes = 4 * 42;
+    let batch = (renderer.max_points(fvf) as u64)
+        .min(limits.max_storage_buffer_binding_size / record_bytes)
+        .min(u64::from(limits.max_compute_workgroups_per_dimension) * u64::from(POINTS_PER_GROUP))
+        .max(1) as usize;
+    for part in vertices.chunks(batch * stride) {
+        let Some(res) = renderer.upload(state, fvf, part, &target.desc)? else {
+            continue;
+        };
+        let pipelines = ctx.exact_pipelines(&res.key)?;
+        let words = u64::from(shader::record_words(&res.key));
+        let layouts = ctx.exact_layouts();
+        let writes_depth = res.key.depth.is_some_and(|(_, write)| write);
+        ctx.scoped(|| {
+            let records = ex.records(&ctx, u64::from(res.points) * words * 4);
+            let params = [width, height, ex.pitch, res.points];
+            let bytes: Vec<u8> = params.iter().flat_map(|w| w.to_le_bytes()).collect();
+            ctx.queue().write_buffer(&ex.params, 0, &bytes);
+            let bind_group = ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("pointillist exact target"),
+                layout: &layouts.target_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: ex.params.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: records.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: ex.color.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: ex.depth.as_entire_binding(),
+                    },
+                ],
+            });
+            let mut encoder =
+                ctx.device()
+                    .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("pointillist exact draw"),
+                    });
+            let extent = wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            };
+            let layout = wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(ex.pitch * 4),
+                rows_per_image: Some(height),
+            };
+            let copy = |texture, aspect| wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect,
+            };
+            encoder.copy_texture_to_buffer(
+                copy(target.color, wgpu::TextureAspect::All),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &ex.color,
+                    layout,
+                },
+                extent,
+            );
+            encoder.copy_texture_to_buffer(
+                copy(target.depth, wgpu::TextureAspect::DepthOnly),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &ex.depth,
+                    layout,
+                },
+                extent,
+            );
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("pointillist exact"),
+                    timestamp_writes: None,
+                });
+                pass.set_bind_group(0, &res.bind_group, &[]);
+                pass.set_bind_group(1, &bind_group, &[]);
+                pass.set_pipeline(&pipelines.points);
+                pass.dispatch_workgroups(res.points.div_ceil(POINTS_PER_GROUP), 1, 1);
+                pass.set_pipeline(&pipelines.tiles);
+                pass.dispatch_workgroups(width.div_ceil(TILE), height.div_ceil(TILE), 1);
+            }
+            encoder.copy_buffer_to_texture(
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &ex.color,
+                    layout,
+                },
+                copy(target.color, wgpu::TextureAspect::All),
+                extent,
+            );
+            if writes_depth {
+                let depth_group = ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("pointillist depth writer"),
+                    layout: &layouts.depth_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: ex.params.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: ex.depth.as_entire_binding(),
+                        },
+                    ],
+                });
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("pointillist depth writer"),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: target.depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&layouts.depth_writer);
+                pass.set_bind_group(0, &depth_group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            ctx.queue().submit([encoder.finish()]);
+        })?;
+        drop(res);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn setup(src: Blend, dst: Blend, op: BlendOp) -> BlendSetup {
+        BlendSetup {
+            src,
+            dst,
+            op,
+            src_alpha: src,
+            dst_alpha: dst,
+            op_alpha: op,
+            factor: [1.0; 4],
+        }
+    }
+
+    #[test]
+    fn spec_5_5_fractional_factors_need_the_exact_path() {
+        assert!(!needs_exact(&setup(Blend::One, Blend::One, BlendOp::Add)));
+        assert!(!needs_exact(&setup(
+            Blend::Zero,
+            Blend::One,
+            BlendOp::RevSubtract
+        )));
+        assert!(!needs_exact(&setup(
+            Blend::SrcAlpha,
+            Blend::DestColor,
+            BlendOp::Max
+        )));
+        assert!(needs_exact(&setup(
+            Blend::SrcAlpha,
+            Blend::InvSrcAlpha,
+            BlendOp::Add
+        )));
+        assert!(needs_exact(&setup(
+            Blend::BlendFactor,
+            Blend::Zero,
+            BlendOp::Add
+        )));
+        let mut b = setup(Blend::One, Blend::One, BlendOp::Add);
+        b.dst_alpha = Blend::SrcAlpha;
+        assert!(needs_exact(&b));
+    }
+}

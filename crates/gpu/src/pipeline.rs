@@ -1,0 +1,370 @@
+//! Pipeline keys and the pipeline cache.
+//!
+//! Contract:
+//! - A [`PipelineKey`] holds everything that changes the generated WGSL or the fixed-function
+//!   state of a render pipeline: the target formats, the vertex format (FVF code, so the PSIZE
+//!   bit is in it), the draw's point-stage switches (pre-transformed, per-vertex size, scaling,
+//!   single-pixel caps, user clip planes and how they are applied), flat or per-pixel shading,
+//!   the resolved texture-stage cascade with each sampling stage's filter and address modes,
+//!   specular, alpha-test function, depth test and write, blend factors and operations, and the
+//!   channel write mask. Values that only change numbers (matrices, sizes, colours, ALPHAREF,
+//!   border colours, LOD bias, MAXMIPLEVEL, the blend constant) are uniforms or dynamic state
+//!   and never make a new pipeline.
+//! - Keys are built from core's resolved [`PointSetup`] and [`PixelSetup`]; the D3D enums are
+//!   mapped to wgpu state here and nowhere else.
+
+use pointillist_core::device::DeviceState;
+use pointillist_core::fvf::Fvf;
+use pointillist_core::pixel::{BlendSetup, PixelSetup, StageSetup, dest_factor};
+use pointillist_core::point::PointSetup;
+use pointillist_core::states::{Blend, BlendOp, Cmp, TextureFilter, TextureOp};
+use pointillist_core::texture::SamplerDesc;
+
+/// The formats of the attachments a draw renders into.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct TargetDesc {
+    /// Width of the attachments in pixels.
+    pub width: u32,
+    /// Height of the attachments in pixels.
+    pub height: u32,
+    /// The colour attachment's format. Exact D3DCOLOR results need an 8-bit unorm, non-sRGB
+    /// format with alpha (`Bgra8Unorm` or `Rgba8Unorm`).
+    pub color_format: wgpu::TextureFormat,
+    /// The depth attachment's format, if the pass has one; without one the depth test and
+    /// depth writes (ZENABLE, ZWRITEENABLE) are skipped.
+    pub depth_format: Option<wgpu::TextureFormat>,
+}
+
+/// How a sampling stage filters and addresses (SPEC 5.2); the numbers are uniforms.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct SamplerKey {
+    /// ADDRESSU as its D3DTADDRESS value.
+    pub address_u: u32,
+    /// ADDRESSV as its D3DTADDRESS value.
+    pub address_v: u32,
+    /// MAGFILTER filters linearly.
+    pub mag_linear: bool,
+    /// MINFILTER filters linearly.
+    pub min_linear: bool,
+    /// MIPFILTER: 0 NONE, 1 POINT, 2 LINEAR (and the filters that behave like it).
+    pub mip: u32,
+}
+
+impl SamplerKey {
+    fn new(s: &SamplerDesc) -> SamplerKey {
+        let linear = |f: TextureFilter| !matches!(f, TextureFilter::None | TextureFilter::Point);
+        SamplerKey {
+            address_u: s.address_u as u32,
+            address_v: s.address_v as u32,
+            mag_linear: linear(s.mag),
+            min_linear: linear(s.min),
+            mip: match s.mip {
+                TextureFilter::None => 0,
+                TextureFilter::Point => 1,
+                _ => 2,
+            },
+        }
+    }
+}
+
+/// One texture stage of the cascade as the shader generator needs it.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct StageKey {
+    /// COLOROP.
+    pub color_op: TextureOp,
+    /// COLORARG0..2.
+    pub color_args: [u32; 3],
+    /// ALPHAOP.
+    pub alpha_op: TextureOp,
+    /// ALPHAARG0..2.
+    pub alpha_args: [u32; 3],
+    /// RESULTARG is TEMP.
+    pub result_to_temp: bool,
+    /// The colour operation passes CURRENT through (core `StageSetup::color_passes`).
+    pub color_passes: bool,
+    /// The alpha operation passes CURRENT through (core `StageSetup::alpha_passes`).
+    pub alpha_passes: bool,
+    /// The stage samples its texture, and how.
+    pub sampler: Option<SamplerKey>,
+}
+
+impl StageKey {
+    fn new(st: &StageSetup, sampler: &SamplerDesc) -> StageKey {
+        StageKey {
+            color_op: st.color_op,
+            color_args: st.color_args,
+            alpha_op: st.alpha_op,
+            alpha_args: st.alpha_args,
+            result_to_temp: st.result_to_temp,
+            color_passes: st.color_passes(),
+            alpha_passes: st.alpha_passes(),
+            sampler: st.samples.then(|| SamplerKey::new(sampler)),
+        }
+    }
+}
+
+/// How user clip planes that cut a square are applied per pixel (SPEC 3.3).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, Default)]
+pub enum ClipPlaneMethod {
+    /// Hardware clip distances (wgpu `Features::CLIP_DISTANCES`), interpolated over the quad.
+    ClipDistances,
+    /// The fragment shader evaluates each plane at the pixel centre and discards: exactly the
+    /// CPU backend's arithmetic. The default.
+    #[default]
+    FragmentDiscard,
+}
+
+/// Everything that makes a distinct render pipeline.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct PipelineKey {
+    /// Attachment formats.
+    pub color_format: wgpu::TextureFormat,
+    /// Depth attachment format, if any.
+    pub depth_format: Option<wgpu::TextureFormat>,
+    /// The vertex format: layout offsets become shader constants.
+    pub fvf: Fvf,
+    /// PSIZE of the vertex is the input size (SPEC 2.1).
+    pub vertex_size: bool,
+    /// POINTSCALEENABLE applies (SPEC 2.2).
+    pub scale: bool,
+    /// Caps allow single-pixel points only (SPEC 2.4).
+    pub single_pixel: bool,
+    /// Enabled user clip planes (SPEC 3.3).
+    pub plane_count: u32,
+    /// The planes clip the scaled square (CLIPPLANESCALEDPOINTS).
+    pub scaled_planes: bool,
+    /// How cutting planes are applied per pixel.
+    pub plane_method: ClipPlaneMethod,
+    /// Every pixel of a point gets one colour: the cascade runs once per point, in the vertex
+    /// shader (core `PixelSetup::is_flat`).
+    pub flat: bool,
+    /// The cascade, up to the first disabled stage.
+    pub stages: Vec<StageKey>,
+    /// SPECULARENABLE.
+    pub specular: bool,
+    /// ALPHATESTENABLE: ALPHAFUNC.
+    pub alpha_test: Option<Cmp>,
+    /// ZENABLE: ZFUNC and ZWRITEENABLE (only with a depth attachment).
+    pub depth: Option<(Cmp, bool)>,
+    /// ALPHABLENDENABLE: colour and alpha blend components.
+    pub blend: Option<[(Blend, Blend, BlendOp); 2]>,
+    /// COLORWRITEENABLE over 0xAARRGGBB.
+    pub write_mask: u32,
+}
+
+impl PipelineKey {
+    /// The key of a draw with `fvf` in `state`, resolved through core.
+    pub(crate) fn new(
+        state: &DeviceState,
+        fvf: Fvf,
+        points: &PointSetup,
+        pixel: &PixelSetup,
+        target: &TargetDesc,
+        plane_method: ClipPlaneMethod,
+    ) -> PipelineKey {
+        let stages = pixel.stages[..pixel.stage_count]
+            .iter()
+            .enumerate()
+            .map(|(i, st)| StageKey::new(st, &SamplerDesc::from_states(&state.sampler_states[i])))
+            .collect();
+        PipelineKey {
+            color_format: target.color_format,
+            depth_format: target.depth_format,
+            fvf,
+            vertex_size: points.uses_vertex_size(),
+            scale: points.scale().is_some(),
+            single_pixel: points.is_single_pixel(),
+            plane_count: points.user_planes().len() as u32,
+            scaled_planes: points.scaled_planes(),
+            plane_method,
+            flat: pixel.is_flat(),
+            stages,
+            specular: pixel.specular,
+            alpha_test: pixel.alpha_test.map(|(func, _)| func),
+            depth: target
+                .depth_format
+                .and(pixel.depth)
+                .map(|d| (d.func, d.write)),
+            blend: pixel.blend.as_ref().map(blend_components),
+            write_mask: pixel.write_mask,
+        }
+    }
+
+    /// True when per-pixel clip distances are emitted.
+    pub(crate) fn uses_clip_distances(&self) -> bool {
+        self.plane_method == ClipPlaneMethod::ClipDistances
+            && self.scaled_planes
+            && self.plane_count > 0
+    }
+}
+
+/// Colour and alpha (source, destination, operation) with core's destination override.
+fn blend_components(b: &BlendSetup) -> [(Blend, Blend, BlendOp); 2] {
+    [
+        (b.src, dest_factor(b.src, b.dst), b.op),
+        (
+            b.src_alpha,
+            dest_factor(b.src_alpha, b.dst_alpha),
+            b.op_alpha,
+        ),
+    ]
+}
+
+/// D3DCMP to wgpu: both compare the new value (left) with the stored one (right).
+pub(crate) fn compare_function(c: Cmp) -> wgpu::CompareFunction {
+    match c {
+        Cmp::Never => wgpu::CompareFunction::Never,
+        Cmp::Less => wgpu::CompareFunction::Less,
+        Cmp::Equal => wgpu::CompareFunction::Equal,
+        Cmp::LessEqual => wgpu::CompareFunction::LessEqual,
+        Cmp::Greater => wgpu::CompareFunction::Greater,
+        Cmp::NotEqual => wgpu::CompareFunction::NotEqual,
+        Cmp::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
+        Cmp::Always => wgpu::CompareFunction::Always,
+    }
+}
+
+/// D3DBLEND to wgpu. The alpha channel of each wgpu factor is what core's `factor(..)[3]`
+/// takes (SPEC 5.5); BOTH* sources were resolved by `dest_factor` already.
+fn blend_factor(b: Blend) -> wgpu::BlendFactor {
+    use wgpu::BlendFactor as F;
+    match b {
+        Blend::Zero => F::Zero,
+        Blend::One => F::One,
+        Blend::SrcColor | Blend::SrcColor2 => F::Src,
+        Blend::InvSrcColor | Blend::InvSrcColor2 => F::OneMinusSrc,
+        Blend::SrcAlpha | Blend::BothSrcAlpha => F::SrcAlpha,
+        Blend::InvSrcAlpha | Blend::BothInvSrcAlpha => F::OneMinusSrcAlpha,
+        Blend::DestAlpha => F::DstAlpha,
+        Blend::InvDestAlpha => F::OneMinusDstAlpha,
+        Blend::DestColor => F::Dst,
+        Blend::InvDestColor => F::OneMinusDst,
+        Blend::SrcAlphaSat => F::SrcAlphaSaturated,
+        Blend::BlendFactor => F::Constant,
+        Blend::InvBlendFactor => F::OneMinusConstant,
+    }
+}
+
+fn blend_component((src, dst, op): (Blend, Blend, BlendOp)) -> wgpu::BlendComponent {
+    let operation = match op {
+        BlendOp::Add => wgpu::BlendOperation::Add,
+        BlendOp::Subtract => wgpu::BlendOperation::Subtract,
+        BlendOp::RevSubtract => wgpu::BlendOperation::ReverseSubtract,
+        BlendOp::Min => wgpu::BlendOperation::Min,
+        BlendOp::Max => wgpu::BlendOperation::Max,
+    };
+    // MIN and MAX ignore the factors (core `combine`); WebGPU requires them to be ONE.
+    let (src_factor, dst_factor) = if matches!(op, BlendOp::Min | BlendOp::Max) {
+        (wgpu::BlendFactor::One, wgpu::BlendFactor::One)
+    } else {
+        (blend_factor(src), blend_factor(dst))
+    };
+    wgpu::BlendComponent {
+        src_factor,
+        dst_factor,
+        operation,
+    }
+}
+
+/// COLORWRITEENABLE (as core's 0xAARRGGBB mask) to wgpu channel writes (SPEC 5.6).
+fn color_writes(mask: u32) -> wgpu::ColorWrites {
+    let mut w = wgpu::ColorWrites::empty();
+    for (bits, channel) in [
+        (0x00FF_0000, wgpu::ColorWrites::RED),
+        (0x0000_FF00, wgpu::ColorWrites::GREEN),
+        (0x0000_00FF, wgpu::ColorWrites::BLUE),
+        (0xFF00_0000, wgpu::ColorWrites::ALPHA),
+    ] {
+        if mask & bits != 0 {
+            w |= channel;
+        }
+    }
+    w
+}
+
+/// Builds the render pipeline of `key` from its generated WGSL `source`.
+pub(crate) fn create_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    key: &PipelineKey,
+    source: &str,
+) -> wgpu::RenderPipeline {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("pointillist points"),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    });
+    let depth_stencil = key.depth_format.map(|format| {
+        let (compare, write) = match key.depth {
+            Some((func, write)) => (compare_function(func), write),
+            None => (wgpu::CompareFunction::Always, false),
+        };
+        wgpu::DepthStencilState {
+            format,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(compare),
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        }
+    });
+    let blend = key.blend.map(|[color, alpha]| wgpu::BlendState {
+        color: blend_component(color),
+        alpha: blend_component(alpha),
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("pointillist points"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            strip_index_format: None,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: None,
+            unclipped_depth: false,
+            polygon_mode: wgpu::PolygonMode::Fill,
+            conservative: false,
+        },
+        depth_stencil,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_main"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: key.color_format,
+                blend,
+                write_mask: color_writes(key.write_mask),
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spec_5_6_write_mask_maps_channel_by_channel() {
+        assert_eq!(color_writes(0xFFFF_FFFF), wgpu::ColorWrites::ALL);
+        assert_eq!(color_writes(0x00FF_0000), wgpu::ColorWrites::RED);
+        assert_eq!(
+            color_writes(0xFF00_00FF),
+            wgpu::ColorWrites::ALPHA | wgpu::ColorWrites::BLUE
+        );
+        assert_eq!(color_writes(0), wgpu::ColorWrites::empty());
+    }
+
+    #[test]
+    fn spec_5_5_min_max_ignore_factors() {
+        let c = blend_component((Blend::SrcAlpha, Blend::Zero, BlendOp::Max));
+        assert_eq!(c.src_factor, wgpu::BlendFactor::One);
+        assert_eq!(c.dst_factor, wgpu::BlendFactor::One);
+        assert_eq!(c.operation, wgpu::BlendOperation::Max);
+    }
+}

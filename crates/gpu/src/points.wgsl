@@ -1,0 +1,429 @@
+// pointillist's GPU point pipeline: the per-point stage, colour arithmetic and the reference
+// sampler of `pointillist-core`, in WGSL.
+//
+// Contract:
+// - This file is the fixed part of every shader; `shader.rs` prepends a generated header for one
+//   pipeline key: `enable` directives, the vertex layout and draw flags as `const`s, the
+//   texture-stage cascade `shade`, the alpha-test compare, the inter-stage struct and the entry
+//   points. Nothing here restates a rule table: constants come from core through the header
+//   and the uniform block, which `uniforms.rs` fills from `PointSetup` / `PixelSetup`.
+// - Every formula is written in the order of operations of its Rust reference in core, named
+//   next to it, so that IEEE f32 arithmetic gives the same bits wherever the adapter computes
+//   `+ - * /` and `sqrt` correctly rounded (lavapipe does). Comments cite SPEC.md rules.
+// - NaN and infinity are detected from the bits (`bitcast`), never with comparisons, which
+//   WGSL lets implementations assume never see them.
+// - D3D9 pixel (i, j) has its centre at (i, j) (SPEC 1); the framebuffer's pixel centre is at
+//   (i + 0.5, j + 0.5). Quads are emitted on whole pixel cells, so coverage is decided here, by
+//   the rule of SPEC 4.1, never by the rasterizer's edge snapping.
+
+// ---- uniform block: one per draw, every member a 16-byte slot (see uniforms.rs) ----
+struct Uniforms {
+    // D3D matrices as rows: `v * M` = v.x * row0 + v.y * row1 + v.z * row2 + v.w * row3.
+    world_view: array<vec4f, 4>,
+    projection: array<vec4f, 4>,
+    world: array<vec4f, 4>,
+    // D3D viewport: x, y, width, height in pixels.
+    viewport: vec4f,
+    // min_z, max_z, 2 / viewport width, 2 / viewport height.
+    depth: vec4f,
+    // POINTSIZE, clamp bounds lo and hi (core::point::clamp_bounds), unused.
+    size: vec4f,
+    // POINTSCALE_A, _B, _C, Vh (SPEC 2.2).
+    scale: vec4f,
+    // The viewport as pixel indices: x0, y0, x1, y1 (half-open).
+    vp_rect: vec4i,
+    // 2 / target width, 2 / target height, target width, target height.
+    screen: vec4f,
+    // ALPHAREF (8 bits), CLIPPING, unused, unused.
+    misc: vec4u,
+    // TEXTUREFACTOR as floats.
+    tfactor: vec4f,
+    // D3DTSS_CONSTANT of each stage as floats.
+    constants: array<vec4f, 8>,
+    // Per stage: BORDERCOLOR, MAXMIPLEVEL, texture coordinate offset in words, float count.
+    stage_info: array<vec4u, 8>,
+    // Per stage: MIPMAPLODBIAS, unused x3.
+    stage_bias: array<vec4f, 8>,
+    // Enabled user clip planes: clip space when scaled, world space otherwise (core PointSetup).
+    planes: array<vec4f, 6>,
+    // 0.5, 1, 2, 4: constants of the cascade and of rounding, opaque to the compiler.
+    k: vec4f,
+    // BLENDFACTOR as floats (the exact path's blend).
+    blend_factor: vec4f,
+}
+
+@group(0) @binding(0) var<uniform> U: Uniforms;
+// The draw's vertices, raw FVF words (little-endian u32).
+@group(0) @binding(1) var<storage, read> VERTS: array<u32>;
+// Stage textures: D3DCOLOR texels as R32Uint, the full mip chain of core's Texture.
+@group(0) @binding(2) var T0: texture_2d<u32>;
+@group(0) @binding(3) var T1: texture_2d<u32>;
+@group(0) @binding(4) var T2: texture_2d<u32>;
+@group(0) @binding(5) var T3: texture_2d<u32>;
+@group(0) @binding(6) var T4: texture_2d<u32>;
+@group(0) @binding(7) var T5: texture_2d<u32>;
+@group(0) @binding(8) var T6: texture_2d<u32>;
+@group(0) @binding(9) var T7: texture_2d<u32>;
+
+// ---- bits and colours ----
+
+fn word(i: u32) -> u32 {
+    return VERTS[i];
+}
+
+fn wordf(i: u32) -> f32 {
+    return bitcast<f32>(VERTS[i]);
+}
+
+// Neither NaN nor infinite (SPEC 3.1).
+fn finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn finite4(v: vec4f) -> bool {
+    return finite(v.x) && finite(v.y) && finite(v.z) && finite(v.w);
+}
+
+fn is_nan(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
+}
+
+// core::color::unpack: D3DCOLOR 0xAARRGGBB to r, g, b, a, each `byte * (1 / 255)`.
+fn unpack_color(c: u32) -> vec4f {
+    return vec4f(
+        f32((c >> 16u) & 0xffu),
+        f32((c >> 8u) & 0xffu),
+        f32(c & 0xffu),
+        f32(c >> 24u),
+    ) * INV255;
+}
+
+// core::color::f32_to_unorm8 per channel: saturate, times 255, round half away from zero
+// (WGSL's round() rounds half to even, so ties are decided here). SPEC 1.
+fn quantize(c: vec4f) -> vec4u {
+    let x = clamp(c, vec4f(0.0), vec4f(1.0)) * 255.0;
+    let f = floor(x);
+    return vec4u(f + select(vec4f(0.0), vec4f(1.0), x - f >= vec4f(U.k.x)));
+}
+
+fn pack_color(q: vec4u) -> u32 {
+    return (q.a << 24u) | (q.r << 16u) | (q.g << 8u) | q.b;
+}
+
+// Rust's f32::round: half away from zero, for lod >= 0.
+fn round_half_away(x: f32) -> f32 {
+    let f = floor(x);
+    return select(f, f + 1.0, x - f >= U.k.x);
+}
+
+// Mat4::transform: `v * M` with M given by rows, summed in core's order.
+fn transform(v: vec4f, r0: vec4f, r1: vec4f, r2: vec4f, r3: vec4f) -> vec4f {
+    return v.x * r0 + v.y * r1 + v.z * r2 + v.w * r3;
+}
+
+// ---- the per-point stage (core::point::PointSetup::process) ----
+
+struct Point {
+    keep: bool,
+    // Screen centre and depth (SPEC 1), size S (SPEC 2).
+    x: f32,
+    y: f32,
+    z: f32,
+    size: f32,
+    // Square's left and top edges, x - S/2 and y - S/2 (SPEC 4.1).
+    left: f32,
+    top: f32,
+    // Covered pixels inside the viewport: x0, y0, x1, y1, half-open, never empty when kept.
+    rect: vec4i,
+    // Clip-space position (transformed vertices).
+    clip: vec4f,
+    diffuse: u32,
+    specular: u32,
+}
+
+fn dropped() -> Point {
+    var p: Point;
+    p.keep = false;
+    return p;
+}
+
+// PointSetup::size: SPEC 2.2 to 2.4.
+fn final_size(si: f32, de: f32) -> f32 {
+    if SINGLE_PIXEL {
+        return 1.0; // SPEC 2.4
+    }
+    var ss = si;
+    if SCALE {
+        // core::point::scaled_size (SPEC 2.2)
+        ss = U.scale.w * si * sqrt(1.0 / (U.scale.x + U.scale.y * de + U.scale.z * de * de));
+    }
+    // core::point::clamp_size (SPEC 2.3): NaN and negative sizes count as 0.
+    if is_nan(ss) || ss < 0.0 {
+        ss = 0.0;
+    }
+    return min(max(ss, U.size.y), U.size.z);
+}
+
+// core::point::covered_range, one edge: ceil, as i32 (bounded well outside any viewport).
+fn edge(e: f32) -> i32 {
+    return i32(clamp(ceil(e), -65536.0, 65536.0));
+}
+
+// A user clip plane carried into pixel space for one point (core PixelPlane, SPEC 3.3):
+// pixel (i, j) is kept when c0 + ci * i + cj * j >= 0.
+fn plane_keeps(pl: vec3f, i: f32, j: f32) -> bool {
+    return pl.x + pl.y * i + pl.z * j >= 0.0;
+}
+
+// PointSetup::clip_user_planes for one clip-space plane: the pixel plane, (1, 0, 0) when it
+// keeps the whole square, or `none` (a NaN marker) when it drops the point.
+fn pixel_plane(pl: vec4f, p: Point) -> vec4f {
+    let w = p.clip.w;
+    let sx = U.depth.z;
+    let sy = U.depth.w;
+    let c = vec3f(
+        pl.x * w * (-U.viewport.x * sx - 1.0) + pl.y * w * (1.0 + U.viewport.y * sy)
+            + pl.z * p.clip.z + pl.w * w,
+        pl.x * w * sx,
+        -pl.y * w * sy,
+    );
+    let r = vec4f(p.rect);
+    let k00 = plane_keeps(c, r.x, r.y);
+    let k10 = plane_keeps(c, r.z - 1.0, r.y);
+    let k01 = plane_keeps(c, r.x, r.w - 1.0);
+    let k11 = plane_keeps(c, r.z - 1.0, r.w - 1.0);
+    if !(k00 || k10 || k01 || k11) {
+        return vec4f(0.0, 0.0, 0.0, 0.0); // negative at every corner: dropped
+    }
+    if k00 && k10 && k01 && k11 {
+        return vec4f(1.0, 0.0, 0.0, 1.0); // positive at every corner: no cut
+    }
+    return vec4f(c, 1.0);
+}
+
+// PointSetup::process for point `index` of the draw (SPEC 2, 3, 4.1).
+fn point_stage(index: u32) -> Point {
+    let base = index * STRIDE;
+    var pos = vec4f(wordf(base), wordf(base + 1u), wordf(base + 2u), 1.0);
+    if POSITION_WORDS == 4u {
+        pos.w = wordf(base + 3u);
+    }
+    if !finite4(pos) {
+        return dropped(); // SPEC 3.1
+    }
+    var si = U.size.x;
+    if VERTEX_SIZE {
+        si = wordf(base + PSIZE_AT); // SPEC 2.1
+    }
+    let clipping = U.misc.y != 0u;
+    var p: Point;
+    if PRETRANSFORMED {
+        // SPEC 3.1: w = 1/RHW must be positive; depth range checked in screen space.
+        p.x = pos.x;
+        p.y = pos.y;
+        p.z = pos.z;
+        // RHW's sign from its bits: a subnormal RHW is positive even where arithmetic flushes
+        // it to 0.
+        let rhw = bitcast<u32>(pos.w);
+        if rhw == 0u || rhw >= 0x80000000u || (clipping && !(U.depth.x <= p.z && p.z <= U.depth.y)) {
+            return dropped();
+        }
+        p.size = final_size(si, 0.0);
+    } else {
+        let eye = transform(pos, U.world_view[0], U.world_view[1], U.world_view[2], U.world_view[3]);
+        let c = transform(eye, U.projection[0], U.projection[1], U.projection[2], U.projection[3]);
+        if !finite4(c) || c.w <= 0.0 {
+            return dropped(); // SPEC 3.1
+        }
+        if clipping && !(0.0 <= c.z && c.z <= c.w) {
+            return dropped(); // SPEC 3.1: z is all or nothing
+        }
+        // SPEC 2.2: Euclidean eye distance.
+        let de = sqrt(eye.x * eye.x + eye.y * eye.y + eye.z * eye.z);
+        // SPEC 1: the viewport transform.
+        p.x = U.viewport.x + (1.0 + c.x / c.w) * U.viewport.z / 2.0;
+        p.y = U.viewport.y + (1.0 - c.y / c.w) * U.viewport.w / 2.0;
+        p.z = U.depth.x + (c.z / c.w) * (U.depth.y - U.depth.x);
+        p.size = final_size(si, de);
+        p.clip = c;
+    }
+    if !(finite(p.x) && finite(p.y) && finite(p.z)) {
+        return dropped();
+    }
+    // SPEC 4.1: the square [x - S/2, x + S/2) x [y - S/2, y + S/2) covers pixel centres.
+    let half = p.size / 2.0;
+    p.left = p.x - half;
+    p.top = p.y - half;
+    let rect = vec4i(edge(p.left), edge(p.top), edge(p.x + half), edge(p.y + half));
+    // SPEC 3.2: only pixels inside the viewport; a square wholly outside is dropped (and S = 0
+    // covers nothing, SPEC 2.5).
+    p.rect = vec4i(max(rect.xy, U.vp_rect.xy), min(rect.zw, U.vp_rect.zw));
+    if p.rect.x >= p.rect.z || p.rect.y >= p.rect.w {
+        return dropped();
+    }
+    p.diffuse = 0xffffffffu; // SPEC 4.2 defaults
+    if HAS_DIFFUSE {
+        p.diffuse = word(base + DIFFUSE_AT);
+    }
+    p.specular = 0u;
+    if HAS_SPECULAR {
+        p.specular = word(base + SPECULAR_AT);
+    }
+    if PLANE_COUNT > 0u && !SCALED_PLANES {
+        // SPEC 3.3 without CLIPPLANESCALEDPOINTS: the vertex's world position decides.
+        let wp = transform(pos, U.world[0], U.world[1], U.world[2], U.world[3]);
+        for (var k = 0u; k < PLANE_COUNT; k++) {
+            let pl = U.planes[k];
+            if !(pl.x * wp.x + pl.y * wp.y + pl.z * wp.z + pl.w * wp.w >= 0.0) {
+                return dropped();
+            }
+        }
+    }
+    p.keep = true;
+    return p;
+}
+
+// Texture coordinate set of stage `stage` for vertex `index` (PointSetup::tex_coords): zeros
+// past the set's size and for a set the format does not have.
+fn vertex_coords(index: u32, stage: u32) -> vec2f {
+    let info = U.stage_info[stage];
+    let at = index * STRIDE + info.z;
+    var uv = vec2f(0.0);
+    if info.w >= 1u {
+        uv.x = wordf(at);
+    }
+    if info.w >= 2u {
+        uv.y = wordf(at + 1u);
+    }
+    return uv;
+}
+
+// ---- the reference sampler (core::texture::Texture::sample, SPEC 5.2) ----
+
+// D3DTADDRESS values (TextureAddress as u32).
+const WRAP: u32 = 1u;
+const MIRROR: u32 = 2u;
+const CLAMP: u32 = 3u;
+const BORDER: u32 = 4u;
+
+// Coordinates beyond 2^20 are clamped first (core texture::COORD_LIMIT), NaN counts as 0.
+fn sanitize(u: f32) -> f32 {
+    if is_nan(u) {
+        return 0.0;
+    }
+    return clamp(u, -1048576.0, 1048576.0);
+}
+
+// Euclidean remainder of the integer-valued float `k` by `n` (n <= 2^15), exact for every
+// |k| <= 2^35: k is split into 2^16 * hi + lo first.
+fn rem_euclid(k: f32, n: i32) -> i32 {
+    let hi = floor(k / 65536.0);
+    let lo = i32(k - hi * 65536.0);
+    let h = i32(hi) % n;
+    let m = (((h * (65536 % n)) % n) + lo % n) % n;
+    return select(m, m + n, m < 0);
+}
+
+// core texture::address: texel index `k` (an integer-valued float) along an axis of `n`
+// texels; -1 means the border colour.
+fn address(mode: u32, k: f32, n: i32) -> i32 {
+    if k >= 0.0 && k < f32(n) {
+        return i32(k); // every mode maps an index inside the texture to itself
+    }
+    if mode == WRAP {
+        return rem_euclid(k, n);
+    }
+    if mode == MIRROR {
+        let m = rem_euclid(k, 2 * n);
+        return select(2 * n - 1 - m, m, m < n);
+    }
+    let ki = i32(clamp(k, -65536.0, 65536.0));
+    if mode == CLAMP {
+        return clamp(ki, 0, n - 1);
+    }
+    if mode == BORDER {
+        return select(ki, -1, ki < 0 || ki >= n);
+    }
+    // MIRRORONCE
+    return clamp(select(ki, -ki - 1, ki < 0), 0, n - 1);
+}
+
+fn fetch(t: texture_2d<u32>, level: i32, size: vec2i, mu: u32, mv: u32, border: u32, k: f32, l: f32) -> vec4f {
+    let x = address(mu, k, size.x);
+    let y = address(mv, l, size.y);
+    if x < 0 || y < 0 {
+        return unpack_color(border);
+    }
+    return unpack_color(textureLoad(t, vec2i(x, y), level).r);
+}
+
+fn lerp4(a: vec4f, b: vec4f, t: f32) -> vec4f {
+    return a + (b - a) * t;
+}
+
+// core texture::sample_level: one level, point or linear.
+fn sample_level(t: texture_2d<u32>, level: i32, mu: u32, mv: u32, border: u32, uv: vec2f, linear: bool) -> vec4f {
+    let isize = vec2i(textureDimensions(t, level));
+    let size = vec2f(isize);
+    if !linear {
+        return fetch(t, level, isize, mu, mv, border, floor(uv.x * size.x), floor(uv.y * size.y));
+    }
+    let x = uv.x * size.x - 0.5;
+    let y = uv.y * size.y - 0.5;
+    let xf = floor(x);
+    let yf = floor(y);
+    let fx = x - xf;
+    let fy = y - yf;
+    let t00 = fetch(t, level, isize, mu, mv, border, xf, yf);
+    let t10 = fetch(t, level, isize, mu, mv, border, xf + 1.0, yf);
+    let t01 = fetch(t, level, isize, mu, mv, border, xf, yf + 1.0);
+    let t11 = fetch(t, level, isize, mu, mv, border, xf + 1.0, yf + 1.0);
+    return lerp4(lerp4(t00, t10, fx), lerp4(t01, t11, fx), fy);
+}
+
+// Texture::sample: `lod` is log2(texels per pixel) of level 0 (a huge negative number for
+// magnification); mip is D3DTEXF NONE (0), POINT (1) or LINEAR (2).
+fn sample_tex(t: texture_2d<u32>, stage: u32, mu: u32, mv: u32, mag_linear: bool, min_linear: bool, mip: u32, uv_in: vec2f, lod_in: f32) -> vec4f {
+    let info = U.stage_info[stage];
+    let border = info.x;
+    let uv = vec2f(sanitize(uv_in.x), sanitize(uv_in.y));
+    var lod = lod_in + U.stage_bias[stage].x;
+    if is_nan(lod) {
+        lod = 0.0;
+    }
+    let linear = select(min_linear, mag_linear, lod <= 0.0);
+    let last = f32(textureNumLevels(t) - 1u);
+    let base = min(f32(info.y), last);
+    if mip == 0u {
+        return sample_level(t, i32(base), mu, mv, border, uv, linear);
+    }
+    if mip == 1u {
+        var level = base;
+        if lod > 0.0 {
+            level = clamp(round_half_away(min(lod, 64.0)), base, last);
+        }
+        return sample_level(t, i32(level), mu, mv, border, uv, linear);
+    }
+    let l = min(max(lod, 0.0), 64.0);
+    let lf = floor(l);
+    let frac = l - lf;
+    let i0 = clamp(lf, base, last);
+    let i1 = clamp(lf + 1.0, base, last);
+    let c0 = sample_level(t, i32(i0), mu, mv, border, uv, linear);
+    if i0 == i1 || frac == 0.0 {
+        return c0;
+    }
+    let c1 = sample_level(t, i32(i1), mu, mv, border, uv, linear);
+    return lerp4(c0, c1, frac);
+}
+
+// core::point::sprite_lod (SPEC 5.2): log2(max(width, height) / S), exact for powers of two.
+fn sprite_lod(t: texture_2d<u32>, size: f32) -> f32 {
+    let dims = textureDimensions(t, 0);
+    let ratio = f32(max(dims.x, dims.y)) / size;
+    let fe = frexp(ratio);
+    if fe.fract == 0.5 {
+        return f32(fe.exp - 1);
+    }
+    return log2(ratio);
+}

@@ -1,0 +1,121 @@
+//! The per-draw uniform block of `points.wgsl`, filled from core's resolved setups.
+//!
+//! Contract: [`Uniforms::new`] writes the `Uniforms` struct of `points.wgsl` member by member,
+//! every member a 16-byte slot, in declaration order. Every number comes from core:
+//! `PointSetup` (matrices, viewport, sizes and clamp bounds, scale terms, clip planes already
+//! carried into clip space), `PixelSetup` (TEXTUREFACTOR, stage constants, ALPHAREF) and
+//! `SamplerDesc` (border colour, LOD bias, MAXMIPLEVEL). Per-draw constants the shader divides
+//! by are divided here, on the CPU, with core's expressions, so they are correctly rounded.
+
+use pointillist_core::device::{DeviceState, MAX_STAGES};
+use pointillist_core::fvf::Fvf;
+use pointillist_core::math::Mat4;
+use pointillist_core::pixel::PixelSetup;
+use pointillist_core::point::PointSetup;
+use pointillist_core::texture::SamplerDesc;
+
+/// 16-byte slots in the block.
+const SLOTS: usize = 12 + 8 + 8 + 8 + 8 + 6 + 2;
+
+/// Size of the uniform block in bytes.
+pub(crate) const UNIFORM_SIZE: u64 = (SLOTS * 16) as u64;
+
+/// The uniform block as bytes.
+pub(crate) struct Uniforms {
+    words: Vec<u32>,
+}
+
+impl Uniforms {
+    fn f4(&mut self, v: [f32; 4]) {
+        self.words.extend(v.map(f32::to_bits));
+    }
+
+    fn u4(&mut self, v: [u32; 4]) {
+        self.words.extend(v);
+    }
+
+    fn mat(&mut self, m: &Mat4) {
+        for row in m.0 {
+            self.f4(row);
+        }
+    }
+
+    /// The block of a draw with `fvf` in `state` into a `width` x `height` target.
+    pub(crate) fn new(
+        state: &DeviceState,
+        fvf: Fvf,
+        points: &PointSetup,
+        pixel: &PixelSetup,
+        width: u32,
+        height: u32,
+    ) -> Uniforms {
+        let mut u = Uniforms {
+            words: Vec::with_capacity(SLOTS * 4),
+        };
+        u.mat(points.world_view());
+        u.mat(points.projection());
+        u.mat(points.world());
+        let vp = points.viewport();
+        u.f4([vp.x as f32, vp.y as f32, vp.width as f32, vp.height as f32]);
+        // The pixel-plane steps of core's clip_user_planes.
+        u.f4([
+            vp.min_z,
+            vp.max_z,
+            2.0 / vp.width as f32,
+            2.0 / vp.height as f32,
+        ]);
+        let (lo, hi) = points.size_bounds();
+        u.f4([points.point_size(), lo, hi, 0.0]);
+        let scale = points.scale().copied();
+        u.f4(scale.map_or([0.0; 4], |s| [s.a, s.b, s.c, s.viewport_height]));
+        let r = points.viewport_rect();
+        u.u4([r.x0, r.y0, r.x1, r.y1].map(|v| v as u32));
+        u.f4([
+            2.0 / width as f32,
+            2.0 / height as f32,
+            width as f32,
+            height as f32,
+        ]);
+        u.u4([
+            pixel
+                .alpha_test
+                .map_or(0, |(_, reference)| u32::from(reference)),
+            u32::from(points.clipping()),
+            0,
+            0,
+        ]);
+        u.f4(pixel.tfactor);
+        for stage in &pixel.stages {
+            u.f4(stage.constant);
+        }
+        let layout = fvf.layout();
+        let samplers: [SamplerDesc; MAX_STAGES] =
+            std::array::from_fn(|i| SamplerDesc::from_states(&state.sampler_states[i]));
+        for (i, s) in samplers.iter().enumerate() {
+            let set = pixel.stages[i].texcoord_set;
+            let (offset, count) = layout
+                .tex
+                .get(set)
+                .copied()
+                .flatten()
+                .map_or((0, 0), |(offset, n)| ((offset / 4) as u32, n as u32));
+            u.u4([s.border, s.max_mip_level, offset, count]);
+        }
+        for s in &samplers {
+            u.f4([s.mip_lod_bias, 0.0, 0.0, 0.0]);
+        }
+        let planes = points.user_planes();
+        for k in 0..6 {
+            u.f4(planes.get(k).copied().unwrap_or([0.0; 4]));
+        }
+        u.f4([0.5, 1.0, 2.0, 4.0]);
+        u.f4(pixel.blend.map_or([1.0; 4], |b| b.factor));
+        debug_assert_eq!(u.words.len(), SLOTS * 4);
+        u
+    }
+
+    /// The bytes to upload.
+    pub(crate) fn bytes(&self) -> Vec<u8> {
+        self.words.iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+}

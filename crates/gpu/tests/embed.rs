@@ -1,0 +1,290 @@
+//! Engines embed the GPU backend: draws prepared for their own attachments, recorded into their
+//! own render pass or rendered into their texture, give the CPU backend's pixels.
+
+use std::sync::Arc;
+
+use pointillist_core::caps::Caps;
+use pointillist_core::device::{DeviceDesc, DeviceState, XyzRhwPsizeDiffuse};
+use pointillist_core::fvf::Fvf;
+use pointillist_core::states::{Api, Blend, RenderState};
+use pointillist_core::texture::Texture;
+use pointillist_gpu::{GpuContext, PointRenderer, TargetDesc};
+use pointillist_testkit::parity::{Tolerance, compare, cpu, gpu_context};
+
+const W: u32 = 64;
+const H: u32 = 48;
+
+fn vertices() -> Vec<u8> {
+    let mut out = Vec::new();
+    for (i, &(x, y, s, c)) in [
+        (10.0f32, 10.0f32, 9.0f32, 0xFFFF_0000u32),
+        (30.5, 20.0, 17.0, 0x80FF_FF00),
+        (50.25, 40.75, 30.0, 0xFF00_80FF),
+        (-4.0, 44.0, 12.0, 0x4000_FF00),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let v = XyzRhwPsizeDiffuse {
+            position: [x, y, 0.1 * i as f32, 1.0],
+            psize: s,
+            diffuse: c,
+        };
+        for w in [
+            v.position[0].to_bits(),
+            v.position[1].to_bits(),
+            v.position[2].to_bits(),
+            v.position[3].to_bits(),
+            v.psize.to_bits(),
+            v.diffuse,
+        ] {
+            out.extend_from_slice(&w.to_le_bytes());
+        }
+    }
+    out
+}
+
+fn fvf() -> Fvf {
+    Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0)
+}
+
+/// The device state both sides draw with: additive sprites, textured.
+fn state() -> DeviceState {
+    let mut s = DeviceState::new(Api::D3d9, Caps::reference(), W, H);
+    let rs = |s: &mut DeviceState, r: RenderState, v: u32| s.render_states[r.0 as usize] = v;
+    rs(&mut s, RenderState::ALPHABLENDENABLE, 1);
+    rs(&mut s, RenderState::SRCBLEND, Blend::One as u32);
+    rs(&mut s, RenderState::DESTBLEND, Blend::One as u32);
+    rs(&mut s, RenderState::POINTSPRITEENABLE, 1);
+    let texels = (0..64u32)
+        .map(|k| 0xFF00_0000 | (k * 0x0004_0302))
+        .collect();
+    s.textures[0] = Some(Arc::new(Texture::from_argb(8, 8, texels).expect("texture")));
+    s
+}
+
+/// The CPU reference: the same state through a device.
+fn reference() -> pointillist_core::device::RenderTarget {
+    let st = state();
+    cpu(DeviceDesc::new(W, H), &|d| {
+        for r in [
+            RenderState::ALPHABLENDENABLE,
+            RenderState::SRCBLEND,
+            RenderState::DESTBLEND,
+            RenderState::POINTSPRITEENABLE,
+        ] {
+            d.set_render_state(r, st.render_state(r));
+        }
+        d.set_texture(0, st.textures[0].clone())?;
+        d.draw_point_list(fvf(), &vertices())
+    })
+}
+
+/// Reads an Rgba8Unorm texture back as D3DCOLORs.
+fn read_rgba(ctx: &GpuContext, texture: &wgpu::Texture) -> Vec<u32> {
+    let padded = (W * 4).div_ceil(256) * 256;
+    let buffer = ctx.device().create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: u64::from(padded * H),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx
+        .device()
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(H),
+            },
+        },
+        wgpu::Extent3d {
+            width: W,
+            height: H,
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.queue().submit([encoder.finish()]);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = sender.send(r);
+    });
+    ctx.map_wait(&receiver).expect("wait").expect("mapped");
+    let view = buffer.get_mapped_range(..).expect("view");
+    let mut out = Vec::new();
+    for y in 0..H as usize {
+        for x in 0..W as usize {
+            let at = y * padded as usize + x * 4;
+            let [r, g, b, a] = [view[at], view[at + 1], view[at + 2], view[at + 3]];
+            out.push(u32::from_be_bytes([a, r, g, b]));
+        }
+    }
+    out
+}
+
+fn engine_texture(ctx: &GpuContext) -> wgpu::Texture {
+    ctx.device().create_texture(&wgpu::TextureDescriptor {
+        label: Some("engine colour"),
+        size: wgpu::Extent3d {
+            width: W,
+            height: H,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+fn as_target(color: Vec<u32>) -> pointillist_core::device::RenderTarget {
+    let mut t = reference();
+    t.color = color;
+    t
+}
+
+#[test]
+fn renders_into_an_engine_render_pass() {
+    let Some(ctx) = gpu_context() else {
+        return;
+    };
+    let texture = engine_texture(&ctx);
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    let mut renderer = PointRenderer::new(Arc::clone(&ctx));
+    let desc = TargetDesc {
+        width: W,
+        height: H,
+        color_format: wgpu::TextureFormat::Rgba8Unorm,
+        depth_format: None,
+    };
+    let draw = renderer
+        .prepare(&state(), fvf(), &vertices(), &desc)
+        .expect("prepare")
+        .expect("something to draw");
+    // The engine's own pass: it clears to the device's default clear colour, then the points.
+    let mut encoder = ctx
+        .device()
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("engine pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        draw.draw(&mut pass);
+    }
+    ctx.queue().submit([encoder.finish()]);
+    drop(draw);
+    let gpu = as_target(read_rgba(&ctx, &texture));
+    let mut reference = reference();
+    // Without a depth attachment nothing is depth-tested; the scene's depths are all
+    // distinct and nearer than the clear depth, so the colours agree anyway.
+    reference.depth = gpu.depth.clone();
+    if let Err(m) = compare("embed_pass", &reference, &gpu, Tolerance::Exact) {
+        panic!("{m}");
+    }
+}
+
+#[test]
+fn renders_into_an_engine_texture_and_reuses_buffers() {
+    let Some(ctx) = gpu_context() else {
+        return;
+    };
+    let texture = engine_texture(&ctx);
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    let mut renderer = PointRenderer::new(Arc::clone(&ctx));
+    let desc = TargetDesc {
+        width: W,
+        height: H,
+        color_format: wgpu::TextureFormat::Rgba8Unorm,
+        depth_format: None,
+    };
+    // Frame after frame into the same texture: clear, then draw.
+    for _ in 0..3 {
+        let mut encoder = ctx
+            .device()
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("engine clear"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        ctx.queue().submit([encoder.finish()]);
+        renderer
+            .render(&state(), fvf(), &vertices(), &desc, &view, None)
+            .expect("render");
+    }
+    let pipelines = ctx.pipeline_count();
+    renderer
+        .render(&state(), fvf(), &[], &desc, &view, None)
+        .expect("an empty draw is fine");
+    assert_eq!(
+        ctx.pipeline_count(),
+        pipelines,
+        "no new pipeline for an empty draw"
+    );
+    let gpu = as_target(read_rgba(&ctx, &texture));
+    let mut reference = reference();
+    reference.depth = gpu.depth.clone();
+    if let Err(m) = compare("embed_texture", &reference, &gpu, Tolerance::Exact) {
+        panic!("{m}");
+    }
+}
+
+#[test]
+fn errors_are_device_errors_not_panics() {
+    let Some(ctx) = gpu_context() else {
+        return;
+    };
+    let mut renderer = PointRenderer::new(Arc::clone(&ctx));
+    // A target format the pipeline cannot render to is a validation error, reported.
+    let desc = TargetDesc {
+        width: W,
+        height: H,
+        color_format: wgpu::TextureFormat::Rgba8Uint,
+        depth_format: None,
+    };
+    let e = renderer
+        .prepare(&state(), fvf(), &vertices(), &desc)
+        .expect_err("an integer colour target cannot blend");
+    let message = pointillist_core::device::DeviceError::from(e).to_string();
+    assert!(message.contains("GPU error"), "{message}");
+    // The context stays usable.
+    let desc = TargetDesc {
+        color_format: wgpu::TextureFormat::Rgba8Unorm,
+        ..desc
+    };
+    assert!(
+        renderer
+            .prepare(&state(), fvf(), &vertices(), &desc)
+            .is_ok()
+    );
+}

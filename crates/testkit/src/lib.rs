@@ -1,0 +1,450 @@
+//! One test harness for both backends.
+//!
+//! Every golden scene and conformance test is written once, against a
+//! [`Device<DualBackend>`](DualDevice): each call goes to the CPU backend and, when an adapter
+//! is present, to the GPU backend too. [`Backend::read_target`] returns the CPU target, so a
+//! test's own assertions read the reference pixels, and compares the GPU target with it first:
+//! colours within the [tolerance table](draw_tolerance), depths exactly. A difference fails the
+//! read with a one-line message and writes `NAME.cpu.png`, `NAME.gpu.png` and `NAME.diff.png`
+//! to `gpu-diffs/` in the cargo target folder.
+//!
+//! Without an adapter the GPU side is skipped with a message on standard error, unless
+//! `POINTILLIST_REQUIRE_GPU=1` (CI sets it), which makes a missing adapter a failure.
+//!
+//! Contract:
+//! - [`draw_tolerance`] is the one place that says how close the GPU must be: exact where no
+//!   filtering or blending arithmetic is involved, 1/255 per channel otherwise (SPEC 7).
+//! - A device's tolerance is the largest of its draws' since its last clear, since a pixel
+//!   keeps the difference an earlier draw left in it.
+//! - Depths are compared by value within 0..=1, the range a WebGPU depth buffer holds, with
+//!   subnormal depths flushed to 0 as GPUs do.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+
+use pointillist_core::device::{
+    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
+};
+use pointillist_core::fvf::Fvf;
+use pointillist_core::pixel::PixelSetup;
+use pointillist_core::states::{Blend, TextureFilter};
+use pointillist_core::texture::SamplerDesc;
+use pointillist_cpu::CpuBackend;
+use pointillist_gpu::{GpuBackend, GpuContext};
+
+pub mod parity;
+
+/// How close the GPU backend's colours must be to the CPU backend's.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Tolerance {
+    /// Bit for bit.
+    Exact,
+    /// At most this many 1/255 steps per channel.
+    Steps(u8),
+}
+
+impl Tolerance {
+    /// The largest channel difference allowed.
+    pub fn steps(self) -> u8 {
+        match self {
+            Tolerance::Exact => 0,
+            Tolerance::Steps(s) => s,
+        }
+    }
+}
+
+/// True for blend factors whose value is 0 or 1 in every channel: blending with them involves
+/// no rounding.
+fn is_whole(b: Blend) -> bool {
+    matches!(b, Blend::Zero | Blend::One)
+}
+
+/// The tolerance table (SPEC 7): how close the GPU must be for a draw with `state`.
+///
+/// | the draw                                                            | tolerance  |
+/// | ------------------------------------------------------------------- | ---------- |
+/// | no blending, or blend factors ZERO / ONE only (any BLENDOP)         | exact      |
+/// | point sampling (MIN, MAG POINT or NONE; MIPFILTER NONE or POINT)    | exact      |
+/// | texture-stage arithmetic, alpha test, depth test, write masks       | exact      |
+/// | any other blend factor (SRCALPHA, DESTCOLOR, BLENDFACTOR, ...)      | 1/255      |
+/// | a sampling stage filtering linearly (MIN/MAG, or MIPFILTER LINEAR)  | 1/255      |
+///
+/// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
+/// comes (on lavapipe every golden scene and conformance test is bit for bit).
+pub fn draw_tolerance(state: &DeviceState) -> Tolerance {
+    if std::env::var("POINTILLIST_GPU_EXACT").is_ok_and(|v| v == "1") {
+        return Tolerance::Exact;
+    }
+    let pixel = PixelSetup::new(state);
+    let blends = pixel.blend.is_some_and(|b| {
+        ![b.src, b.dst, b.src_alpha, b.dst_alpha]
+            .into_iter()
+            .all(is_whole)
+    });
+    let filters = pixel.stages[..pixel.stage_count]
+        .iter()
+        .enumerate()
+        .filter(|(_, st)| st.samples)
+        .any(|(i, _)| {
+            let s = SamplerDesc::from_states(&state.sampler_states[i]);
+            let linear = |f| !matches!(f, TextureFilter::None | TextureFilter::Point);
+            linear(s.mag) || linear(s.min) || linear(s.mip)
+        });
+    if blends || filters {
+        Tolerance::Steps(1)
+    } else {
+        Tolerance::Exact
+    }
+}
+
+/// Whether the GPU side was skipped already (the message is printed once per test binary).
+static SKIP_REPORTED: AtomicBool = AtomicBool::new(false);
+
+/// True when `POINTILLIST_REQUIRE_GPU=1`: a missing adapter fails instead of skipping.
+pub fn gpu_required() -> bool {
+    std::env::var("POINTILLIST_REQUIRE_GPU").is_ok_and(|v| v == "1")
+}
+
+/// The shared GPU context, or `None` when there is no adapter (with a message on standard
+/// error, once). Panics when there is none and [`gpu_required`].
+pub fn gpu_context() -> Option<Arc<GpuContext>> {
+    match GpuContext::shared() {
+        Ok(ctx) => Some(ctx),
+        Err(e) => {
+            if gpu_required() {
+                panic!("POINTILLIST_REQUIRE_GPU=1 but the GPU backend is unavailable: {e}");
+            }
+            if !SKIP_REPORTED.swap(true, Ordering::Relaxed) {
+                // Straight to the process's stderr: the test harness captures `eprintln!`.
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "GPU comparisons skipped: {e} (install a Vulkan driver, e.g. \
+                     `apt-get install mesa-vulkan-drivers libvulkan1`; \
+                     POINTILLIST_REQUIRE_GPU=1 makes this a failure)"
+                );
+            }
+            None
+        }
+    }
+}
+
+/// Where failing comparisons write their images: `gpu-diffs/` in `$CARGO_TARGET_DIR`, else in
+/// the workspace's `target/`.
+pub fn diff_dir() -> PathBuf {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let target = match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) if !dir.is_empty() => {
+            let dir = PathBuf::from(dir);
+            if dir.is_absolute() {
+                dir
+            } else {
+                root.join(dir)
+            }
+        }
+        _ => root.join("target"),
+    };
+    target.join("gpu-diffs")
+}
+
+/// Largest per-channel difference of two D3DCOLORs.
+pub fn channel_diff(a: u32, b: u32) -> u8 {
+    a.to_be_bytes()
+        .iter()
+        .zip(b.to_be_bytes())
+        .map(|(x, y)| x.abs_diff(y))
+        .max()
+        .unwrap_or(0)
+}
+
+/// True when a GPU depth is the CPU depth as a WebGPU depth buffer can hold it: clamped to
+/// 0..=1, subnormals flushed to 0 (GPUs flush them), -0 and +0 alike, NaN not compared.
+fn same_depth(cpu: f32, gpu: f32) -> bool {
+    let flush = |z: f32| if z.is_subnormal() { 0.0 } else { z };
+    let cpu = flush(cpu.clamp(0.0, 1.0));
+    cpu.is_nan() || cpu == flush(gpu)
+}
+
+/// A file-name-safe version of `name`.
+fn file_name(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Compares the GPU target with the CPU one: colours within `tol`, depths exactly (within
+/// 0..=1). On a difference writes `NAME.cpu.png`, `NAME.gpu.png` and `NAME.diff.png` (differing
+/// pixels red, brighter for larger differences, green where only the depth differs, on the
+/// dimmed CPU image) and returns a message naming the first differences.
+pub fn compare(
+    name: &str,
+    cpu: &RenderTarget,
+    gpu: &RenderTarget,
+    tol: Tolerance,
+) -> Result<(), String> {
+    if (cpu.width, cpu.height) != (gpu.width, gpu.height) {
+        return Err(format!(
+            "{name}: GPU target {}x{}, CPU target {}x{}",
+            gpu.width, gpu.height, cpu.width, cpu.height
+        ));
+    }
+    let allowed = tol.steps();
+    let mut diff = Vec::with_capacity(cpu.color.len() * 4);
+    let mut first = Vec::new();
+    let (mut count, mut worst) = (0usize, 0u8);
+    for (k, (&c, &g)) in cpu.color.iter().zip(&gpu.color).enumerate() {
+        let d = channel_diff(c, g);
+        let depth_bad = !same_depth(cpu.depth[k], gpu.depth[k]);
+        if d > allowed || depth_bad {
+            count += 1;
+            worst = worst.max(d);
+            if first.len() < 4 {
+                first.push(format!(
+                    "({}, {}): cpu {c:#010x} z {} gpu {g:#010x} z {}",
+                    k as u32 % cpu.width,
+                    k as u32 / cpu.width,
+                    cpu.depth[k],
+                    gpu.depth[k]
+                ));
+            }
+            if d > allowed {
+                diff.extend_from_slice(&[255, 0, d.saturating_mul(16), 255]);
+            } else {
+                diff.extend_from_slice(&[0, 255, 0, 255]);
+            }
+        } else {
+            let [_, r, g, b] = c.to_be_bytes();
+            diff.extend_from_slice(&[r / 4, g / 4, b / 4, 255]);
+        }
+    }
+    if count == 0 {
+        return Ok(());
+    }
+    let dir = diff_dir();
+    let base = file_name(name);
+    let _ = std::fs::create_dir_all(&dir);
+    for (suffix, rgba) in [
+        ("cpu", cpu.to_rgba8()),
+        ("gpu", gpu.to_rgba8()),
+        ("diff", diff),
+    ] {
+        let path = dir.join(format!("{base}.{suffix}.png"));
+        let _ = pointillist_image::write_png_atomic(&path, cpu.width, cpu.height, &rgba);
+    }
+    Err(format!(
+        "{name}: the GPU backend differs from the CPU backend beyond {tol:?} at {count} \
+         pixel(s), worst channel difference {worst}; {} (images {base}.{{cpu,gpu,diff}}.png in {})",
+        first.join("; "),
+        dir.display()
+    ))
+}
+
+/// A backend that draws everything on the CPU backend and, with an adapter, on the GPU backend
+/// too, and checks at each read that they agree.
+pub struct DualBackend {
+    cpu: CpuBackend,
+    gpu: Option<GpuBackend>,
+    tolerance: Tolerance,
+    name: Option<String>,
+    reads: usize,
+}
+
+impl std::fmt::Debug for DualBackend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DualBackend")
+            .field("gpu", &self.gpu.is_some())
+            .field("tolerance", &self.tolerance)
+            .field("name", &self.name)
+            .finish()
+    }
+}
+
+impl DualBackend {
+    /// Both backends (the GPU one when an adapter is present); comparisons are named after the
+    /// running test.
+    pub fn new() -> DualBackend {
+        DualBackend {
+            cpu: CpuBackend::new(),
+            gpu: gpu_context().map(GpuBackend::with_context),
+            tolerance: Tolerance::Exact,
+            name: None,
+            reads: 0,
+        }
+    }
+
+    /// As [`DualBackend::new`], with comparisons named `name` (a scene's name, say).
+    pub fn named(name: &str) -> DualBackend {
+        DualBackend {
+            name: Some(name.to_owned()),
+            ..DualBackend::new()
+        }
+    }
+
+    /// True when the GPU backend draws too.
+    pub fn has_gpu(&self) -> bool {
+        self.gpu.is_some()
+    }
+
+    /// The tolerance the next read compares with.
+    pub fn tolerance(&self) -> Tolerance {
+        self.tolerance
+    }
+
+    /// The name of the next comparison: the given name or the test's, numbered after the
+    /// first read.
+    fn comparison_name(&self) -> String {
+        let base = self.name.clone().unwrap_or_else(|| {
+            std::thread::current()
+                .name()
+                .unwrap_or("unnamed")
+                .rsplit("::")
+                .next()
+                .unwrap_or("unnamed")
+                .to_owned()
+        });
+        if self.reads == 0 {
+            base
+        } else {
+            format!("{base}.read{}", self.reads + 1)
+        }
+    }
+}
+
+impl Default for DualBackend {
+    fn default() -> Self {
+        DualBackend::new()
+    }
+}
+
+impl Backend for DualBackend {
+    fn create_target(
+        &mut self,
+        width: u32,
+        height: u32,
+        color: u32,
+        depth: f32,
+    ) -> Result<(), DeviceError> {
+        self.cpu.create_target(width, height, color, depth)?;
+        if let Some(g) = &mut self.gpu {
+            g.create_target(width, height, color, depth)?;
+        }
+        Ok(())
+    }
+
+    fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError> {
+        self.cpu.clear(color, depth)?;
+        if let Some(g) = &mut self.gpu {
+            g.clear(color, depth)?;
+            self.tolerance = Tolerance::Exact;
+        }
+        Ok(())
+    }
+
+    fn draw_points(
+        &mut self,
+        state: &DeviceState,
+        fvf: Fvf,
+        vertices: &[u8],
+    ) -> Result<(), DeviceError> {
+        self.cpu.draw_points(state, fvf, vertices)?;
+        if let Some(g) = &mut self.gpu {
+            g.draw_points(state, fvf, vertices)?;
+            self.tolerance = self.tolerance.max(draw_tolerance(state));
+        }
+        Ok(())
+    }
+
+    fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        let cpu = self.cpu.read_target()?;
+        if let Some(g) = &mut self.gpu {
+            let gpu = g.read_target()?;
+            let name = self.comparison_name();
+            self.reads += 1;
+            compare(&name, &cpu, &gpu, self.tolerance).map_err(DeviceError::Backend)?;
+        }
+        Ok(cpu)
+    }
+}
+
+/// A D3D9 device drawing on both backends.
+pub type DualDevice = Device<DualBackend>;
+
+/// A [`DualDevice`] with a cleared target, comparisons named after the running test.
+pub fn device(desc: DeviceDesc) -> Result<DualDevice, DeviceError> {
+    Device::new(DualBackend::new(), desc)
+}
+
+/// A [`DualDevice`] whose comparisons are named `name`.
+pub fn device_named(desc: DeviceDesc, name: &str) -> Result<DualDevice, DeviceError> {
+    Device::new(DualBackend::named(name), desc)
+}
+
+/// The adapter the comparisons run on, for a test's log ("llvmpipe (LLVM 15.0.6, 256 bits),
+/// Vulkan"), or why there is none.
+pub fn adapter_line() -> String {
+    static LINE: OnceLock<String> = OnceLock::new();
+    LINE.get_or_init(|| match GpuContext::shared() {
+        Ok(ctx) => format!("{}, {}", ctx.adapter().name, ctx.adapter().backend),
+        Err(e) => format!("no GPU adapter: {e}"),
+    })
+    .clone()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pointillist_core::caps::Caps;
+    use pointillist_core::states::{Api, RenderState, SamplerState};
+
+    fn state() -> DeviceState {
+        DeviceState::new(Api::D3d9, Caps::reference(), 4, 4)
+    }
+
+    #[test]
+    fn spec_7_tolerance_table() {
+        let mut s = state();
+        assert_eq!(draw_tolerance(&s), Tolerance::Exact);
+        s.render_states[RenderState::ALPHABLENDENABLE.0 as usize] = 1;
+        for (src, dst, tol) in [
+            (Blend::One, Blend::One, Tolerance::Exact),
+            (Blend::One, Blend::Zero, Tolerance::Exact),
+            (Blend::Zero, Blend::One, Tolerance::Exact),
+            (Blend::SrcAlpha, Blend::InvSrcAlpha, Tolerance::Steps(1)),
+            (Blend::One, Blend::DestColor, Tolerance::Steps(1)),
+            (Blend::BlendFactor, Blend::Zero, Tolerance::Steps(1)),
+        ] {
+            s.render_states[RenderState::SRCBLEND.0 as usize] = src as u32;
+            s.render_states[RenderState::DESTBLEND.0 as usize] = dst as u32;
+            assert_eq!(draw_tolerance(&s), tol, "{src:?} {dst:?}");
+        }
+        let mut s = state();
+        s.textures[0] = Some(Arc::new(
+            pointillist_core::texture::Texture::from_argb(1, 1, vec![0]).expect("texture"),
+        ));
+        assert_eq!(draw_tolerance(&s), Tolerance::Exact, "point sampling");
+        s.sampler_states[0][SamplerState::MAGFILTER.0 as usize] = TextureFilter::Linear as u32;
+        assert_eq!(draw_tolerance(&s), Tolerance::Steps(1), "bilinear");
+    }
+
+    #[test]
+    fn compare_reports_and_writes_images() {
+        let a = RenderTarget::new(2, 1, 0xFF00_0000, 1.0);
+        let mut b = a.clone();
+        assert!(compare("testkit_self_equal", &a, &b, Tolerance::Exact).is_ok());
+        b.color[1] = 0xFF01_0000;
+        assert!(compare("testkit_self_one", &a, &b, Tolerance::Steps(1)).is_ok());
+        let e = compare("testkit_self_exact", &a, &b, Tolerance::Exact).unwrap_err();
+        assert!(e.contains("1 pixel(s)") && e.contains("(1, 0)"), "{e}");
+        assert!(diff_dir().join("testkit_self_exact.diff.png").exists());
+        b.color[1] = a.color[1];
+        b.depth[0] = 0.5;
+        assert!(compare("testkit_self_depth", &a, &b, Tolerance::Steps(9)).is_err());
+    }
+}
