@@ -18,6 +18,12 @@
 //! - Every error is a [`SceneError`] naming `file:line:column`, the key path (like
 //!   `draw[2].states.POINTSIZE`; draws, textures, rows counted from 0) and what is wrong. Unknown
 //!   keys, wrong types and out-of-range values are errors; nothing is silently ignored.
+//! - Particles and animation (`docs/SCENE.md` documents every key): `[[emitter]]` tables
+//!   become [`EmitterDesc`]s (a checked [`pointillist_particles::Emitter`] each) and
+//!   `[animation]` an [`Animation`] (its defaults when absent). [`Scene::render_frame`] draws
+//!   frame `k`: the particle system advanced to `warmup + k / fps`, the scene replayed with the
+//!   camera of time `k / fps` ([`Scene::replay_with_view`]), then each emitter's point list with
+//!   its render states.
 //! - Extensions to SCENE.md: `{ stage = N, none = true }` in a texture list unbinds a texture
 //!   (SetTexture(N, NULL)); a transform may be `"identity"`; `fvf` may be an integer D3DFVF code;
 //!   a viewport change keeps the fields it does not give from the viewport in force, except that
@@ -38,6 +44,7 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 use pointillist_core::texture::Texture;
+use pointillist_particles::{DrawBuffers, Emitter, ParticleSystem, SystemConfig};
 
 pub use error::{Origin, SceneError};
 
@@ -123,6 +130,137 @@ pub struct Step {
     pub origin: Origin,
 }
 
+/// A particle emitter of the scene (`[[emitter]]`) and where the file declares it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmitterDesc {
+    /// The emitter, every value checked.
+    pub emitter: Emitter,
+    /// Its table in the file, for errors met while drawing it.
+    pub origin: Origin,
+}
+
+/// One key of a camera path: where the eye is and what it looks at, at a time.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct CameraKey {
+    /// Seconds from frame 0.
+    pub time: f32,
+    /// Eye position (world space).
+    pub eye: [f32; 3],
+    /// The point looked at.
+    pub at: [f32; 3],
+}
+
+/// How the camera moves during an animation; it replaces the VIEW transform every frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Camera {
+    /// The eye circles `at` about the vertical axis.
+    Orbit {
+        /// The point looked at and circled.
+        at: [f32; 3],
+        /// Horizontal distance of the eye from `at`.
+        radius: f32,
+        /// Height of the eye above `at`.
+        height: f32,
+        /// Angular speed, degrees per second (positive: counter-clockwise seen from above).
+        degrees_per_second: f32,
+        /// Angle at frame 0, degrees; -90 puts the eye on `at`'s -z side.
+        start_degrees: f32,
+        /// The up vector of the view.
+        up: [f32; 3],
+    },
+    /// The eye and the point looked at move linearly between keys, held before the first key
+    /// and after the last.
+    Path {
+        /// Keys in increasing time.
+        keys: Vec<CameraKey>,
+        /// The up vector of the view.
+        up: [f32; 3],
+    },
+}
+
+/// The `[animation]` table: frames, timing, simulation and camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Animation {
+    /// Frames `pointillist animate` renders; default 1.
+    pub frames: u32,
+    /// Frames per second; default 30.
+    pub fps: f32,
+    /// Seconds simulated before frame 0; default 0.
+    pub warmup: f32,
+    /// Seed of the particle systems; default 0.
+    pub seed: u64,
+    /// Fixed simulation step in seconds; default 1/60.
+    pub time_step: f32,
+    /// The camera's motion; `None` keeps `[transform] view`.
+    pub camera: Option<Camera>,
+}
+
+impl Default for Animation {
+    fn default() -> Self {
+        Animation {
+            frames: 1,
+            fps: 30.0,
+            warmup: 0.0,
+            seed: 0,
+            time_step: 1.0 / 60.0,
+            camera: None,
+        }
+    }
+}
+
+impl Animation {
+    /// Simulated seconds at frame `frame`: `warmup + frame / fps`.
+    pub fn sim_time(&self, frame: u32) -> f64 {
+        f64::from(self.warmup) + f64::from(frame) / f64::from(self.fps)
+    }
+
+    /// The VIEW matrix of the camera at `t` seconds after frame 0; `None` without a camera.
+    pub fn view_at(&self, t: f64) -> Option<Mat4> {
+        let lerp3 = |a: [f32; 3], b: [f32; 3], u: f32| {
+            [
+                a[0] + (b[0] - a[0]) * u,
+                a[1] + (b[1] - a[1]) * u,
+                a[2] + (b[2] - a[2]) * u,
+            ]
+        };
+        let (eye, at, up) = match self.camera.as_ref()? {
+            Camera::Orbit {
+                at,
+                radius,
+                height,
+                degrees_per_second,
+                start_degrees,
+                up,
+            } => {
+                let deg = f64::from(*start_degrees) + f64::from(*degrees_per_second) * t;
+                let (s, c) = deg.to_radians().sin_cos();
+                let eye = [
+                    at[0] + radius * c as f32,
+                    at[1] + height,
+                    at[2] + radius * s as f32,
+                ];
+                (eye, *at, *up)
+            }
+            Camera::Path { keys, up } => {
+                let t = t as f32;
+                let j = keys.iter().filter(|k| k.time <= t).count();
+                let (eye, at) = if j == 0 {
+                    (keys[0].eye, keys[0].at)
+                } else if j == keys.len() {
+                    (keys[j - 1].eye, keys[j - 1].at)
+                } else {
+                    let (a, b) = (&keys[j - 1], &keys[j]);
+                    let u = (t - a.time) / (b.time - a.time);
+                    (lerp3(a.eye, b.eye, u), lerp3(a.at, b.at, u))
+                };
+                (eye, at, *up)
+            }
+        };
+        let m = Mat4::look_at_lh(eye, at, up);
+        m.0.iter().flatten().all(|x| x.is_finite()).then_some(m)
+    }
+}
+
 /// A parsed scene: the device to create and the calls to issue on it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -136,6 +274,10 @@ pub struct Scene {
     pub target: TargetDesc,
     /// The calls, in order: a clear, the top-level state, then each draw's changes and the draw.
     pub steps: Vec<Step>,
+    /// The particle emitters (`[[emitter]]`), drawn after the steps in this order.
+    pub emitters: Vec<EmitterDesc>,
+    /// The `[animation]` table (its defaults when the file has none).
+    pub animation: Animation,
 }
 
 /// Reads and parses the scene file at `path`; relative files it names are found from its folder.
@@ -174,7 +316,22 @@ impl Scene {
 
     /// Issues every step on `device`, in order: a clear, the top-level state, then each draw's
     /// changes and the draw. An error the device reports names the step's file position and key.
+    /// Particles are not drawn: see [`Scene::render_frame`].
     pub fn replay<B: Backend>(&self, device: &mut Device<B>) -> Result<(), SceneError> {
+        self.replay_with_view(device, None)
+    }
+
+    /// [`Scene::replay`] with every VIEW transform the scene sets replaced by `view` (when
+    /// given), which is then in force from the first draw on: how a moving camera looks at a
+    /// scene.
+    pub fn replay_with_view<B: Backend>(
+        &self,
+        device: &mut Device<B>,
+        view: Option<Mat4>,
+    ) -> Result<(), SceneError> {
+        if let Some(m) = view {
+            device.set_transform(TransformType::View, m);
+        }
         for step in &self.steps {
             let fail = |e: pointillist_core::device::DeviceError| {
                 step.origin.error(&self.file, e.to_string())
@@ -199,6 +356,7 @@ impl Scene {
                 Command::Texture { stage, texture } => {
                     device.set_texture(*stage, texture.clone()).map_err(fail)?;
                 }
+                Command::Transform(TransformType::View, _) if view.is_some() => {}
                 Command::Transform(which, m) => device.set_transform(*which, *m),
                 Command::Viewport(vp) => device.set_viewport(*vp).map_err(fail)?,
                 Command::ClipPlane { index, plane } => {
@@ -211,7 +369,77 @@ impl Scene {
         }
         Ok(())
     }
+
+    /// True when the scene moves: it has emitters, or a camera, or more than one frame.
+    pub fn is_animated(&self) -> bool {
+        !self.emitters.is_empty() || self.animation.camera.is_some() || self.animation.frames > 1
+    }
+
+    /// A new particle system of the scene's emitters (none is fine), seeded and stepped as
+    /// `[animation]` says, at time 0.
+    pub fn particle_system(&self) -> Result<ParticleSystem, SceneError> {
+        ParticleSystem::new(SystemConfig {
+            seed: self.animation.seed,
+            time_step: self.animation.time_step,
+            emitters: self.emitters.iter().map(|e| e.emitter.clone()).collect(),
+        })
+        .map_err(|e| {
+            let origin = e
+                .emitter
+                .and_then(|i| self.emitters.get(i))
+                .map(|d| d.origin.clone())
+                .unwrap_or_default();
+            origin.error(&self.file, e.to_string())
+        })
+    }
+
+    /// The VIEW transform the scene sets before its first draw, or after its last step when it
+    /// has no draw (identity when it sets none): where a free camera starts.
+    pub fn initial_view(&self) -> Mat4 {
+        let mut view = Mat4::IDENTITY;
+        for step in &self.steps {
+            match &step.command {
+                Command::Transform(TransformType::View, m) => view = *m,
+                Command::Draw { .. } => break,
+                _ => {}
+            }
+        }
+        view
+    }
+
+    /// Renders frame `frame` of the animation on `device`: advances `system` (a system of
+    /// [`Scene::particle_system`]) to the frame's simulation time, restarting it first when it
+    /// is already past it, replays the scene with the camera of the frame's time
+    /// ([`Animation::view_at`]), and draws the particles, each emitter with its render states.
+    pub fn render_frame<B: Backend>(
+        &self,
+        device: &mut Device<B>,
+        system: &mut ParticleSystem,
+        buffers: &mut DrawBuffers,
+        frame: u32,
+    ) -> Result<(), SceneError> {
+        let t = self.animation.sim_time(frame);
+        let h = f64::from(self.animation.time_step);
+        if system.time() > t + h * 1e-3 {
+            system.reset();
+        }
+        system.advance_to(t);
+        let view = self
+            .animation
+            .view_at(f64::from(frame) / f64::from(self.animation.fps));
+        self.replay_with_view(device, view)?;
+        system.draw(device, buffers).map_err(|e| {
+            let origin = self
+                .emitters
+                .first()
+                .map(|d| d.origin.clone())
+                .unwrap_or_default();
+            origin.error(&self.file, format!("cannot draw the particles: {e}"))
+        })
+    }
 }
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_particles;

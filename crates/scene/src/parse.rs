@@ -1,5 +1,7 @@
 //! The walk over the spanned TOML tree that turns a scene file into a [`Scene`].
 
+mod particles;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -40,6 +42,8 @@ const TOP_KEYS: &[&str] = &[
     "texture",
     "clip_plane",
     "draw",
+    "emitter",
+    "animation",
 ];
 const DRAW_KEYS: &[&str] = &[
     "fvf",
@@ -160,12 +164,35 @@ impl Parser<'_> {
                 self.draw(d, &index("draw", i))?;
             }
         }
+        let mut emitters = Vec::new();
+        if let Some(list) = f.get("emitter") {
+            let list = match list.get_ref() {
+                DeValue::Array(a) => a,
+                _ => {
+                    return Err(expected(
+                        &self.src,
+                        list,
+                        "emitter",
+                        "an array of [[emitter]] tables",
+                    ));
+                }
+            };
+            for (i, e) in list.iter().enumerate() {
+                emitters.push(self.emitter(e, &index("emitter", i))?);
+            }
+        }
+        let animation = match f.get("animation") {
+            None => crate::Animation::default(),
+            Some(v) => self.animation(v)?,
+        };
         Ok(Scene {
             file: self.src.file().to_path_buf(),
             api,
             caps,
             target: self.target,
             steps: std::mem::take(&mut self.steps),
+            emitters,
+            animation,
         })
     }
 

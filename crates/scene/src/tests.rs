@@ -491,7 +491,8 @@ fn error_unknown_key() {
             .unwrap_err()
             .to_string(),
         "s.toml:2:1: colour: unknown key (expected one of: format, api, target, \
-         caps, viewport, transform, states, stage, texture, clip_plane, draw)"
+         caps, viewport, transform, states, stage, texture, clip_plane, draw, emitter, \
+         animation)"
     );
 }
 
