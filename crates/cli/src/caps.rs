@@ -4,13 +4,26 @@
 use std::fmt::Write as _;
 
 use pointillist_core::caps::{Caps, VertexProcessing};
+use pointillist_gpu::{AdapterSummary, ClipPlaneMethod};
 
-use crate::CapsArgs;
+use crate::{BackendKind, CapsArgs, backend};
 
 /// Prints the caps `args` select (a scene's, a profile's, or the default profile's) and the list
-/// of built-in profiles on standard output.
+/// of built-in profiles on standard output; with `--backend gpu`, first the adapter the GPU
+/// backend runs on and the caps it honours.
 pub fn run(args: &CapsArgs) -> Result<(), String> {
-    args.backend.ensure_available()?;
+    if args.backend == BackendKind::Gpu {
+        let ctx = backend::gpu_context()?;
+        let limits = ctx.limits();
+        print!(
+            "{}",
+            gpu_report(
+                ctx.adapter(),
+                limits.max_texture_dimension_2d,
+                limits.max_storage_buffer_binding_size
+            )
+        );
+    }
     let (source, caps) = match (&args.scene, &args.profile) {
         (Some(path), _) => {
             let scene = pointillist_scene::load(path).map_err(|e| e.to_string())?;
@@ -22,15 +35,53 @@ pub fn run(args: &CapsArgs) -> Result<(), String> {
             Caps::default(),
         ),
     };
-    print!("{}", report(&source, &caps));
+    let name = match args.backend {
+        BackendKind::Cpu => "cpu",
+        BackendKind::Gpu => "gpu",
+    };
+    print!("{}", report(name, &source, &caps));
     Ok(())
+}
+
+/// What the GPU backend runs on and which caps it honours.
+fn gpu_report(adapter: &AdapterSummary, max_target: u32, max_binding: u64) -> String {
+    let honoured = pointillist_gpu::honoured_caps();
+    let clip = match adapter.clip_planes {
+        ClipPlaneMethod::FragmentDiscard => "evaluated per pixel in the fragment shader",
+        ClipPlaneMethod::ClipDistances => "hardware clip distances",
+    };
+    let mut out = String::new();
+    let _ = writeln!(out, "GPU backend adapter: {}", adapter.name);
+    let _ = writeln!(
+        out,
+        "  {} ({}), driver {}",
+        adapter.backend, adapter.device_type, adapter.driver
+    );
+    let _ = writeln!(
+        out,
+        "  sprites are quads built by the vertex shader, so every profile below is honoured \
+         exactly:"
+    );
+    let _ = writeln!(
+        out,
+        "  it honours MaxPointSize up to {} (not the adapter's native point size range), \
+         D3DFVFCAPS_PSIZE, D3DPMISCCAPS_CLIPPLANESCALEDPOINTS (cutting planes {clip})",
+        honoured.max_point_size
+    );
+    let _ = writeln!(
+        out,
+        "  render targets up to {max_target} pixels a side; up to {} MiB of vertices per draw \
+         call (larger draws are split, in order)\n",
+        max_binding >> 20
+    );
+    out
 }
 
 /// The whole report: the caps, the effective caps where software vertex processing changes
 /// them, and the profile list.
-fn report(source: &str, caps: &Caps) -> String {
+fn report(backend: &str, source: &str, caps: &Caps) -> String {
     let mut out = String::new();
-    let _ = writeln!(out, "Device caps of the cpu backend, {source}:");
+    let _ = writeln!(out, "Device caps of the {backend} backend, {source}:");
     table(&mut out, caps);
     let effective = caps.effective();
     if effective != *caps {
@@ -141,7 +192,7 @@ mod tests {
 
     #[test]
     fn every_profile_is_listed_once() {
-        let text = report("profile reference", &Caps::reference());
+        let text = report("cpu", "profile reference", &Caps::reference());
         for name in Caps::PROFILES {
             let rows = text
                 .lines()
@@ -152,10 +203,30 @@ mod tests {
     }
 
     #[test]
+    fn gpu_report_names_the_adapter_and_the_clip_method() {
+        let adapter = AdapterSummary {
+            name: "llvmpipe".into(),
+            backend: "Vulkan".into(),
+            device_type: "Cpu".into(),
+            driver: "Mesa".into(),
+            clip_planes: ClipPlaneMethod::FragmentDiscard,
+        };
+        let text = gpu_report(&adapter, 16384, 128 << 20);
+        assert!(
+            text.starts_with("GPU backend adapter: llvmpipe\n"),
+            "{text}"
+        );
+        assert!(text.contains("Vulkan (Cpu)"), "{text}");
+        assert!(text.contains("MaxPointSize up to 8192"), "{text}");
+        assert!(text.contains("fragment shader"), "{text}");
+        assert!(text.contains("128 MiB"), "{text}");
+    }
+
+    #[test]
     fn effective_caps_appear_only_when_they_differ() {
-        let hw = report("x", &Caps::reference());
+        let hw = report("cpu", "x", &Caps::reference());
         assert!(!hw.contains("the pipeline applies"));
-        let sw = report("x", &Caps::profile("software").unwrap());
+        let sw = report("gpu", "x", &Caps::profile("software").unwrap());
         assert!(sw.contains("the pipeline applies"));
         let sizes: Vec<&str> = sw
             .lines()

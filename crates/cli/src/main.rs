@@ -6,11 +6,16 @@
 //! is one line `error: ...` on standard error and a non-zero exit status; nothing the user gives
 //! makes it panic.
 //!
-//! This file holds the argument grammar and the dispatch; [`render`] and [`caps`] do the work.
+//! This file holds the argument grammar and the dispatch; [`render`], [`animate`], `view` (with
+//! the `viewer` feature), [`caps`] and [`bench`](mod@bench) do the work.
 
+mod animate;
+mod backend;
 mod bench;
 mod caps;
 mod render;
+#[cfg(feature = "viewer")]
+mod view;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -32,12 +37,15 @@ planes, texture stages, alpha test, depth test and blending, pixel for pixel.";
 const EXAMPLES: &str = "\
 Examples:
   pointillist render scenes/ring.toml -o ring.png
+  pointillist animate scenes/snow.toml -o snow.gif
+  pointillist view scenes/fireworks.toml
   pointillist caps
   pointillist caps --profile single_pixel
 
 A scene file is a TOML transcription of a D3D9 program: `[states] POINTSIZE = 15.0` is
 SetRenderState(D3DRS_POINTSIZE, 15.0f), each `[[draw]]` a DrawPrimitiveUP(D3DPT_POINTLIST, ...).
-The format is described in shared/SCENE.md, the rules pointillist follows in shared/SPEC.md.";
+The format is described in shared/SCENE.md, the rules pointillist follows in shared/SPEC.md;
+particle emitters and animations in docs/SCENE.md.";
 
 /// The long description of `pointillist render --help`.
 const RENDER_LONG_ABOUT: &str = "\
@@ -50,13 +58,17 @@ exact bytes, alpha included, as an RGBA8 PNG. OUT is replaced atomically: on any
 existing OUT is left untouched.
 
 States that have no effect on points (D3DRS_FOGENABLE, D3DRS_LIGHTING, ...) are accepted and
-reported once each as a warning on standard error.";
+reported once each as a warning on standard error.
+
+A scene with particle emitters or an [animation] renders one frame: frame 0, or --frame N
+(the particles simulated to warmup + N / fps seconds, the camera at N / fps).";
 
 /// Examples shown at the end of `pointillist render --help`.
 const RENDER_EXAMPLES: &str = "\
 Examples:
   pointillist render scenes/ring.toml -o ring.png
-  pointillist render my_scene.toml -o out/my_scene.png --backend cpu
+  pointillist render my_scene.toml -o out/my_scene.png --backend gpu
+  pointillist render scenes/fireworks.toml -o fireworks.png --frame 60
 
 The scene format is described in shared/SCENE.md.";
 
@@ -101,9 +113,107 @@ enum Command {
     /// Print the device caps a scene would get (MaxPointSize, D3DFVFCAPS_PSIZE, ...).
     #[command(long_about = CAPS_LONG_ABOUT, after_help = CAPS_EXAMPLES)]
     Caps(CapsArgs),
+    /// Render every frame of a particle scene to a GIF, APNG, PNG sequence or MP4.
+    #[command(long_about = ANIMATE_LONG_ABOUT, after_help = ANIMATE_EXAMPLES)]
+    Animate(AnimateArgs),
+    /// Show a scene live in a window, with an orbit camera (needs the `viewer` feature).
+    #[command(long_about = VIEW_LONG_ABOUT, after_help = VIEW_EXAMPLES)]
+    View(ViewArgs),
     /// Time the performance workloads W1-W4, optionally beside Mesa llvmpipe.
     #[command(long_about = bench::LONG_ABOUT)]
     Bench(bench::BenchArgs),
+}
+
+/// The long description of `pointillist animate --help`.
+const ANIMATE_LONG_ABOUT: &str = "\
+Render every frame of a scene's [animation] and write them as one animation.
+
+Frame k shows the particle emitters simulated to warmup + k / fps seconds (fixed time step,
+seeded: the same scene gives the same frames on any machine) with the camera ([animation]
+orbit or path) at k / fps seconds. The format follows OUT's name, or --format:
+  .gif            animated GIF, looping (colours quantised per frame, shown opaque)
+  .png, .apng     APNG: every frame's exact RGBA8 bytes
+  name with %d    numbered PNGs, e.g. frames/snow_%04d.png (frame 0 first)
+  .mp4            H.264 through ffmpeg, which must be installed (found on PATH)
+A single file is written beside OUT under a temporary name and renamed over OUT when every
+frame is in: an error or Ctrl-C (exit status 130) leaves no partial file and an existing OUT
+untouched. A progress bar with an ETA is drawn on standard error when it is a terminal.";
+
+/// Examples shown at the end of `pointillist animate --help`.
+const ANIMATE_EXAMPLES: &str = "\
+Examples:
+  pointillist animate scenes/snow.toml -o snow.gif
+  pointillist animate scenes/fireworks.toml -o fireworks.png
+  pointillist animate scenes/fire_smoke.toml -o frames/fire_%04d.png --frames 30
+  pointillist animate scenes/starfield.toml -o starfield.mp4
+
+Emitters and [animation] are described in docs/SCENE.md.";
+
+/// The long description of `pointillist view --help`.
+const VIEW_LONG_ABOUT: &str = "\
+Show a scene live in a window: the particles run in real time and the camera orbits.
+
+The scene is drawn on the GPU backend when an adapter is found, else on the CPU backend (a note
+on standard error says so; --backend picks one), and shown through a blit into the window.
+
+Keys: Space pauses and resumes, Right or . steps one frame while paused, R restarts the
+particles, the arrow keys or a drag with the left mouse button orbit, the mouse wheel or + and -
+zoom, Esc or Q quits. The window title shows the particle count and the time a frame takes.
+--frames N renders N frames of 1/fps each and exits (for scripts and tests).
+
+Needs a build with the `viewer` feature: cargo build --release --features viewer";
+
+/// Examples shown at the end of `pointillist view --help`.
+const VIEW_EXAMPLES: &str = "\
+Examples:
+  pointillist view scenes/snow.toml
+  pointillist view scenes/fountain.toml --frames 30";
+
+/// An animation's file format.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AnimationFormat {
+    /// Animated GIF.
+    Gif,
+    /// Animated PNG.
+    Apng,
+    /// Numbered PNG files: OUT holds a %d counter, like frames/%04d.png.
+    PngSeq,
+    /// H.264 MP4 through ffmpeg.
+    Mp4,
+}
+
+/// Arguments of `pointillist animate`.
+#[derive(Debug, Args)]
+pub struct AnimateArgs {
+    /// The scene file (TOML with `[[emitter]]` and `[animation]`, see docs/SCENE.md).
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+    /// The file to write: .gif, .png or .apng, a %d pattern such as frames/%04d.png, or .mp4.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// The format, when OUT's name does not tell it.
+    #[arg(long, value_enum, ignore_case = true)]
+    pub format: Option<AnimationFormat>,
+    /// Render this many frames instead of `[animation] frames`.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: Option<u32>,
+    /// The backend that draws.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = BackendKind::Cpu)]
+    pub backend: BackendKind,
+}
+
+/// Arguments of `pointillist view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// The scene file.
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+    /// Render this many frames, 1/fps apart, then close the window and exit.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// The backend that draws (default: the GPU when an adapter is found, else the CPU).
+    #[arg(long, value_enum, ignore_case = true)]
+    pub backend: Option<BackendKind>,
 }
 
 /// Which backend draws.
@@ -111,18 +221,20 @@ enum Command {
 pub enum BackendKind {
     /// The CPU rasterizer: exact, runs anywhere.
     Cpu,
-    /// The GPU backend (planned; not built yet).
+    /// The GPU backend (wgpu: Vulkan, Metal, D3D12 or OpenGL): the same pixels, exactly where
+    /// no filtering or blending arithmetic is involved, within 1/255 otherwise.
     Gpu,
 }
 
 impl BackendKind {
-    /// Fails with the one-line reason when this backend is not available in this build.
+    /// For commands that draw on the CPU only: fails with the one-line reason for the GPU.
+    /// Commands that take either create their backend with [`backend::create`].
     pub fn ensure_available(self) -> Result<(), String> {
         match self {
             BackendKind::Cpu => Ok(()),
-            BackendKind::Gpu => Err("the GPU backend is not built yet (issue: GPU backend on \
-                 wgpu); use --backend cpu"
-                .to_string()),
+            BackendKind::Gpu => {
+                Err("--backend gpu is not available for this command; use --backend cpu".into())
+            }
         }
     }
 }
@@ -136,6 +248,9 @@ pub struct RenderArgs {
     /// The PNG file to write (RGBA8, the target's exact bytes).
     #[arg(short, long, value_name = "OUT.png")]
     pub output: PathBuf,
+    /// For a scene with particles or an `[animation]`: the frame to render (default 0).
+    #[arg(long, value_name = "N")]
+    pub frame: Option<u32>,
     /// The backend that draws.
     #[arg(long, value_enum, ignore_case = true, default_value_t = BackendKind::Cpu)]
     pub backend: BackendKind,
@@ -173,6 +288,23 @@ fn profile_help() -> String {
          (case-insensitive), one of:\n{} (default: {}).",
         Caps::PROFILES.join(", "),
         Caps::PROFILES[0]
+    )
+}
+
+/// Runs `pointillist view`, or explains how to get it in a build without the viewer.
+#[cfg(feature = "viewer")]
+fn view(args: &ViewArgs) -> Result<(), String> {
+    view::run(args)
+}
+
+/// Runs `pointillist view`, or explains how to get it in a build without the viewer.
+#[cfg(not(feature = "viewer"))]
+fn view(args: &ViewArgs) -> Result<(), String> {
+    let _ = (&args.scene, args.frames, args.backend);
+    Err(
+        "this pointillist was built without the viewer; rebuild with \
+         `cargo build --release --features viewer` (or use `pointillist animate`)"
+            .to_string(),
     )
 }
 
@@ -239,6 +371,15 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Caps(args) => caps::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Animate(args) => match animate::run(args) {
+            Ok(()) => Ok(()),
+            Err(animate::Failure::Error(message)) => Err(message),
+            Err(animate::Failure::Interrupted) => {
+                eprintln!("interrupted: no output written");
+                return ExitCode::from(animate::INTERRUPTED);
+            }
+        },
+        Command::View(args) => view(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,23 +1,40 @@
-//! `pointillist render SCENE -o OUT.png`: load a scene, replay it on a device, write the target.
+//! `pointillist render SCENE -o OUT.png [--frame N]`: load a scene, replay it on a device (with
+//! its particles at frame N when it has any), write the target.
 
 use std::path::Path;
 
 use pointillist_core::device::Device;
-use pointillist_cpu::CpuBackend;
 use pointillist_image::ImageError;
 
-use crate::RenderArgs;
+use crate::{RenderArgs, backend};
 
 /// Renders `args.scene` to `args.output`. Device notices (states that have no effect on points)
 /// are printed as `warning: SCENE: ...` on standard error once the image is written; on failure
 /// the one-line reason is returned and an existing output file is left as it was.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    args.backend.ensure_available()?;
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
     let scene_name = args.scene.display();
-    let mut device = Device::new(CpuBackend::new(), scene.device_desc())
+    let mut device = Device::new(backend::create(args.backend)?, scene.device_desc())
         .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
-    scene.replay(&mut device).map_err(|e| e.to_string())?;
+    let mut particles = None;
+    if scene.is_animated() || args.frame.is_some() {
+        let frame = args.frame.unwrap_or(0);
+        let frames = scene.animation.frames;
+        if frame >= frames {
+            return Err(format!(
+                "{scene_name}: --frame {frame} is outside 0..={} ([animation] frames = {frames})",
+                frames - 1
+            ));
+        }
+        let mut system = scene.particle_system().map_err(|e| e.to_string())?;
+        let mut buffers = pointillist_particles::DrawBuffers::new();
+        scene
+            .render_frame(&mut device, &mut system, &mut buffers, frame)
+            .map_err(|e| e.to_string())?;
+        particles = Some((frame, system.len()));
+    } else {
+        scene.replay(&mut device).map_err(|e| e.to_string())?;
+    }
     let target = device
         .read_target()
         .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
@@ -30,13 +47,19 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     for notice in device.take_notices() {
         eprintln!("warning: {scene_name}: {notice}");
     }
+    let draws = scene.draw_count();
+    let what = match particles {
+        Some((frame, n)) => format!(
+            "frame {frame}, {n} particle{}",
+            if n == 1 { "" } else { "s" }
+        ),
+        None => format!("{draws} draw{}", if draws == 1 { "" } else { "s" }),
+    };
     println!(
-        "wrote {} ({}x{}, {} draw{})",
+        "wrote {} ({}x{}, {what})",
         args.output.display(),
         target.width,
         target.height,
-        scene.draw_count(),
-        if scene.draw_count() == 1 { "" } else { "s" }
     );
     Ok(())
 }

@@ -1,5 +1,9 @@
 //! Golden images: every scene `scenes/*.toml` rendered by the CPU backend must match
-//! `tests/golden/NAME.png` exactly, every byte of RGBA8, alpha included.
+//! `tests/golden/NAME.png` exactly, every byte of RGBA8, alpha included, and the GPU backend
+//! must match the CPU backend within the tolerance table of `pointillist_testkit` (exact where
+//! no filtering or blending arithmetic is involved, 1/255 per channel otherwise). Without a GPU
+//! adapter the GPU half is skipped with a message; `POINTILLIST_REQUIRE_GPU=1` makes that a
+//! failure.
 //!
 //! - `POINTILLIST_BLESS=1 cargo test -p pointillist-cli --test golden` (re)writes the goldens
 //!   instead of comparing; look at every image you bless.
@@ -86,11 +90,29 @@ impl Image {
     }
 }
 
-/// Renders a scene as the CLI does: load, create the device, replay, read the target.
+/// Renders a scene as the CLI does: load, create the device, replay, read the target. The
+/// device draws on both backends (`pointillist_testkit`): reading the target compares the GPU
+/// backend's with the CPU backend's (exact, or within 1/255 where the scene filters or blends;
+/// `gpu-diffs/golden_NAME.{cpu,gpu,diff}.png` on a difference) and returns the CPU image.
 fn render(scene_file: &Path) -> Result<Image, String> {
     let scene = pointillist_scene::load(scene_file).map_err(|e| e.to_string())?;
-    let mut device = pointillist_cpu::device(scene.device_desc()).map_err(|e| e.to_string())?;
-    scene.replay(&mut device).map_err(|e| e.to_string())?;
+    let name = scene_file
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("scene");
+    let mut device =
+        pointillist_testkit::device_named(scene.device_desc(), &format!("golden_{name}"))
+            .map_err(|e| e.to_string())?;
+    if scene.is_animated() {
+        // Particle scenes: frame 0, as `pointillist render` draws it.
+        let mut system = scene.particle_system().map_err(|e| e.to_string())?;
+        let mut buffers = pointillist_particles::DrawBuffers::new();
+        scene
+            .render_frame(&mut device, &mut system, &mut buffers, 0)
+            .map_err(|e| e.to_string())?;
+    } else {
+        scene.replay(&mut device).map_err(|e| e.to_string())?;
+    }
     let target = device.read_target().map_err(|e| e.to_string())?;
     Ok(Image {
         width: target.width,

@@ -1,0 +1,316 @@
+//! `pointillist animate`, `render --frame` and `view` as a user meets them: the files written in
+//! every format, their frame counts, determinism, errors, and Ctrl-C leaving nothing behind.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+/// A scratch folder under the system temp dir, removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        static NEXT: AtomicUsize = AtomicUsize::new(0);
+        let n = NEXT.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!(
+            "pointillist-animate-test-{}-{n}-{name}",
+            std::process::id()
+        ));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+
+    fn write(&self, name: &str, contents: &str) -> PathBuf {
+        let path = self.0.join(name);
+        fs::write(&path, contents).unwrap();
+        path
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+
+    fn listing(&self) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(&self.0)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
+}
+
+fn pointillist(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pointillist"))
+        .args(args)
+        .output()
+        .expect("the pointillist binary runs")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("temp paths are UTF-8")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A small fountain: 64x36, four frames at 10 fps, particles on every frame.
+const SCENE: &str = r#"
+format = 1
+[target]
+width = 64
+height = 36
+clear = 0xFF000020
+[transform]
+view = { look_at_lh = { eye = [0, 1, -6], at = [0, 1, 0], up = [0, 1, 0] } }
+projection = { perspective_fov_lh = { fovy = 1.0, aspect = 1.7777778, zn = 0.1, zf = 50.0 } }
+[animation]
+frames = 4
+fps = 10
+warmup = 0.5
+seed = 1
+[[emitter]]
+rate = 400
+lifetime = [0.8, 1.2]
+velocity = { min = [-1, 3, -1], max = [1, 4, 1] }
+gravity = [0, -9.81, 0]
+size = 0.2
+color_over_life = [[0, 0xFFFFFFFF], [1, 0xFF2040FF]]
+blend = "additive"
+"#;
+
+#[test]
+fn animate_writes_a_looping_gif_with_every_frame() {
+    let dir = TempDir::new("gif");
+    let scene = dir.write("f.toml", SCENE);
+    let out = dir.path("f.gif");
+    let o = pointillist(&["animate", s(&scene), "-o", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.starts_with(&format!(
+        "wrote {} (4 frames of 64x36 at 10 fps",
+        out.display()
+    )));
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut d = opts.read_info(fs::File::open(&out).unwrap()).unwrap();
+    let mut frames = 0;
+    while let Some(f) = d.read_next_frame().unwrap() {
+        assert_eq!((f.width, f.height, f.delay), (64, 36, 10));
+        frames += 1;
+    }
+    assert_eq!(frames, 4);
+    assert_eq!(
+        dir.listing(),
+        ["f.gif", "f.toml"],
+        "no temporary file is left"
+    );
+}
+
+#[test]
+fn animate_writes_an_apng_of_the_exact_frames_and_is_deterministic() {
+    let dir = TempDir::new("apng");
+    let scene = dir.write("f.toml", SCENE);
+    let (a, b) = (dir.path("a.png"), dir.path("b.apng"));
+    for out in [&a, &b] {
+        let o = pointillist(&["animate", s(&scene), "-o", s(out)]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    assert_eq!(
+        fs::read(&a).unwrap(),
+        fs::read(&b).unwrap(),
+        "same scene, same bytes"
+    );
+    let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(&a).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let actl = reader.info().animation_control.unwrap();
+    assert_eq!((actl.num_frames, actl.num_plays), (4, 0));
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let mut frames = Vec::new();
+    for _ in 0..4 {
+        reader.next_frame(&mut buf).unwrap();
+        frames.push(buf.clone());
+    }
+    assert!(
+        frames.windows(2).all(|w| w[0] != w[1]),
+        "the particles move"
+    );
+    // Frame 2 of the APNG is `render --frame 2`, byte for byte.
+    let single = dir.path("frame2.png");
+    let o = pointillist(&["render", s(&scene), "-o", s(&single), "--frame", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(&single).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut one = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut one).unwrap();
+    assert_eq!(one, frames[2]);
+}
+
+#[test]
+fn animate_writes_a_numbered_png_sequence() {
+    let dir = TempDir::new("seq");
+    let scene = dir.write("f.toml", SCENE);
+    let pattern = dir.path("f_%03d.png");
+    let o = pointillist(&["animate", s(&scene), "-o", s(&pattern), "--frames", "3"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        dir.listing(),
+        ["f.toml", "f_000.png", "f_001.png", "f_002.png"]
+    );
+}
+
+#[test]
+fn mp4_without_ffmpeg_is_a_clear_error() {
+    let dir = TempDir::new("mp4");
+    let scene = dir.write("f.toml", SCENE);
+    let out = dir.path("f.mp4");
+    let o = Command::new(env!("CARGO_BIN_EXE_pointillist"))
+        .args(["animate", s(&scene), "-o", s(&out)])
+        .env("PATH", s(&dir.0))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.starts_with("error: MP4 output needs ffmpeg, which is not installed"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1);
+    assert_eq!(dir.listing(), ["f.toml"]);
+}
+
+#[test]
+fn animate_and_render_refuse_bad_requests_in_one_line() {
+    let dir = TempDir::new("errors");
+    let scene = dir.write("f.toml", SCENE);
+    let (avi, png, deep) = (
+        dir.path("f.avi"),
+        dir.path("f.png"),
+        dir.path("no/such/dir/f.gif"),
+    );
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["animate", s(&scene), "-o", s(&avi)],
+            "cannot tell the format from the name",
+        ),
+        (
+            &["animate", s(&scene), "-o", s(&png), "--format", "png-seq"],
+            "a PNG sequence needs a frame counter in the file name",
+        ),
+        (
+            &["render", s(&scene), "-o", s(&png), "--frame", "4"],
+            "--frame 4 is outside 0..=3 ([animation] frames = 4)",
+        ),
+        (&["animate", s(&scene), "-o", s(&deep)], "does not exist"),
+    ];
+    for (args, expected) in cases {
+        let o = pointillist(args);
+        assert!(!o.status.success(), "{args:?}");
+        let err = stderr(&o);
+        assert!(
+            err.starts_with("error: ") && err.contains(expected),
+            "{args:?}: {err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    assert_eq!(dir.listing(), ["f.toml"]);
+}
+
+#[test]
+#[cfg(unix)]
+fn ctrl_c_leaves_no_partial_file() {
+    let dir = TempDir::new("interrupt");
+    // Many large frames: the render is still going when SIGINT arrives.
+    let scene = dir.write(
+        "slow.toml",
+        &SCENE
+            .replace("width = 64", "width = 1024")
+            .replace("height = 36", "height = 576")
+            .replace("frames = 4", "frames = 100000"),
+    );
+    let out = dir.path("slow.gif");
+    fs::write(&out, b"previous").unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_pointillist"))
+        .args(["animate", s(&scene), "-o", s(&out)])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the temporary file exists: frames are being written.
+    let start = Instant::now();
+    while !dir.listing().iter().any(|n| n.contains(".tmp-")) {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no temporary file appeared"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert!(stderr(&o).contains("interrupted: no output written"));
+    assert_eq!(dir.listing(), ["slow.gif", "slow.toml"]);
+    assert_eq!(
+        fs::read(&out).unwrap(),
+        b"previous",
+        "the old output is untouched"
+    );
+}
+
+#[test]
+fn every_particle_scene_renders() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let dir = TempDir::new("scenes");
+    for name in [
+        "snow",
+        "sparks",
+        "starfield",
+        "fountain",
+        "fire_smoke",
+        "fireworks",
+    ] {
+        let scene = root.join(format!("{name}.toml"));
+        let out = dir.path(&format!("{name}.png"));
+        let o = pointillist(&["render", s(&scene), "-o", s(&out), "--frame", "1"]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        assert!(stderr(&o).is_empty(), "{name}: {}", stderr(&o));
+    }
+}
+
+#[test]
+#[cfg(not(feature = "viewer"))]
+fn view_without_the_feature_says_how_to_get_it() {
+    let o = pointillist(&["view", "scenes/snow.toml"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--features viewer"), "{}", stderr(&o));
+}
+
+/// With the viewer built and a display (CI runs this under Xvfb): open the window, render 10
+/// frames, close it, exit 0.
+#[test]
+#[cfg(feature = "viewer")]
+fn view_opens_renders_and_closes() {
+    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
+        eprintln!("no display: skipped (CI runs this under xvfb-run)");
+        return;
+    }
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/fountain.toml");
+    let o = pointillist(&["view", s(&scene), "--frames", "10"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.starts_with("10 frames, "), "{stdout}");
+}
