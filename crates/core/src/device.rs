@@ -24,6 +24,10 @@ pub const MAX_STAGES: usize = 8;
 pub const MAX_CLIP_PLANES: usize = 6;
 /// Largest render target side pointillist accepts.
 pub const MAX_TARGET_SIZE: u32 = 16384;
+/// Most vertices one draw accepts (2^24, as many as the largest particle emitter holds, docs/
+/// SCENE.md): a bigger DrawPrimitiveUP is refused with [`DeviceError::TooManyVertices`] before
+/// the backend sees it, like D3D9 refuses more than D3DCAPS9.MaxPrimitiveCount points.
+pub const MAX_DRAW_VERTICES: usize = 1 << 24;
 
 /// D3DVIEWPORT9: the target rectangle and depth range points are mapped to (SPEC 1).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -166,6 +170,11 @@ pub enum DeviceError {
         /// The format's stride in bytes.
         stride: usize,
     },
+    /// A draw of more than [`MAX_DRAW_VERTICES`] vertices.
+    TooManyVertices {
+        /// The vertices in the draw.
+        count: usize,
+    },
     /// The backend failed (GPU errors, out of memory).
     Backend(String),
 }
@@ -184,6 +193,10 @@ impl fmt::Display for DeviceError {
             DeviceError::VertexBufferLength { len, stride } => write!(
                 f,
                 "vertex buffer of {len} bytes is not a multiple of the FVF stride {stride}"
+            ),
+            DeviceError::TooManyVertices { count } => write!(
+                f,
+                "draw of {count} vertices is above the limit of {MAX_DRAW_VERTICES} per draw"
             ),
             DeviceError::Backend(m) => write!(f, "{m}"),
         }
@@ -559,7 +572,9 @@ impl<B: Backend> Device<B> {
         self.backend.clear(color, depth)
     }
 
-    /// DrawPrimitiveUP(D3DPT_POINTLIST) from raw little-endian FVF bytes.
+    /// DrawPrimitiveUP(D3DPT_POINTLIST) from raw little-endian FVF bytes: refused when the FVF
+    /// is invalid, the buffer is not a whole number of vertices, or it holds more than
+    /// [`MAX_DRAW_VERTICES`].
     pub fn draw_point_list(&mut self, fvf: Fvf, vertices: &[u8]) -> Result<(), DeviceError> {
         let fvf = fvf.validate()?;
         let stride = fvf.stride();
@@ -568,6 +583,10 @@ impl<B: Backend> Device<B> {
                 len: vertices.len(),
                 stride,
             });
+        }
+        let count = vertices.len() / stride;
+        if count > MAX_DRAW_VERTICES {
+            return Err(DeviceError::TooManyVertices { count });
         }
         if vertices.is_empty() {
             return Ok(());
@@ -681,5 +700,142 @@ impl Vertex for XyzRhwPsizeDiffuse {
             out,
             &[p[0], p[1], p[2], p[3], self.psize.to_bits(), self.diffuse],
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A backend that records how many draws reached it.
+    #[derive(Default)]
+    struct Counting {
+        draws: usize,
+    }
+
+    impl Backend for Counting {
+        fn create_target(&mut self, _: u32, _: u32, _: u32, _: f32) -> Result<(), DeviceError> {
+            Ok(())
+        }
+        fn clear(&mut self, _: u32, _: f32) -> Result<(), DeviceError> {
+            Ok(())
+        }
+        fn draw_points(&mut self, _: &DeviceState, _: Fvf, _: &[u8]) -> Result<(), DeviceError> {
+            self.draws += 1;
+            Ok(())
+        }
+        fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
+            Ok(RenderTarget::new(1, 1, 0, 1.0))
+        }
+    }
+
+    fn device(width: u32, height: u32) -> Result<Device<Counting>, DeviceError> {
+        Device::new(Counting::default(), DeviceDesc::new(width, height))
+    }
+
+    #[test]
+    fn hostile_target_sizes_name_the_size_and_the_range() {
+        for (w, h) in [(0, 4), (4, 0), (16385, 4), (4, u32::MAX)] {
+            let e = device(w, h).err().expect("refused");
+            assert_eq!(
+                e.to_string(),
+                format!("render target {w}x{h} is outside 1..=16384 per side")
+            );
+        }
+        assert!(device(16384, 1).is_ok());
+    }
+
+    #[test]
+    fn hostile_viewports_say_what_is_wrong() {
+        let mut d = device(64, 32).unwrap();
+        let vp = Viewport::full(64, 32);
+        let cases = [
+            (
+                Viewport { width: 0, ..vp },
+                "invalid viewport: 0x32 is empty",
+            ),
+            (
+                Viewport { x: 1, ..vp },
+                "invalid viewport: 64x32 at (1, 0) does not fit the 64x32 target",
+            ),
+            (
+                Viewport {
+                    y: u32::MAX,
+                    height: 2,
+                    ..vp
+                },
+                "invalid viewport: 64x2 at (0, 4294967295) does not fit the 64x32 target",
+            ),
+            (
+                Viewport {
+                    min_z: 0.8,
+                    max_z: 0.2,
+                    ..vp
+                },
+                "invalid viewport: depth range min_z 0.8 max_z 0.2 must satisfy 0 <= min_z <= \
+                 max_z <= 1",
+            ),
+            (
+                Viewport {
+                    min_z: f32::NAN,
+                    ..vp
+                },
+                "invalid viewport: depth range min_z NaN max_z 1 must satisfy 0 <= min_z <= \
+                 max_z <= 1",
+            ),
+        ];
+        for (bad, message) in cases {
+            assert_eq!(d.set_viewport(bad).unwrap_err().to_string(), message);
+            assert_eq!(d.state().viewport, vp, "a refused viewport changes nothing");
+        }
+    }
+
+    #[test]
+    fn hostile_stage_and_clip_plane_indices_name_the_range() {
+        let mut d = device(4, 4).unwrap();
+        let e = d.set_texture_stage_state(8, TextureStageState::COLOROP, 1u32);
+        assert_eq!(e.unwrap_err().to_string(), "stage 8 is outside 0..=7");
+        let e = d.set_sampler_state(usize::MAX, SamplerState::ADDRESSU, 1u32);
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            format!("stage {} is outside 0..=7", usize::MAX)
+        );
+        let e = d.set_texture_stage_state(0, TextureStageState(4000), 1u32);
+        assert_eq!(e.unwrap_err().to_string(), "stage 0 is outside 0..=7");
+        assert_eq!(
+            d.set_texture(9, None).unwrap_err().to_string(),
+            "stage 9 is outside 0..=7"
+        );
+        assert_eq!(
+            d.set_clip_plane(6, [0.0; 4]).unwrap_err().to_string(),
+            "clip plane 6 is outside 0..=5"
+        );
+    }
+
+    #[test]
+    fn hostile_vertex_buffers_never_reach_the_backend() {
+        let mut d = device(4, 4).unwrap();
+        let e = d.draw_point_list(Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0), &[0; 20]);
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "vertex buffer of 20 bytes is not a multiple of the FVF stride 16"
+        );
+        let e = d.draw_point_list(Fvf(Fvf::XYZ.0 | 0x1000), &[0; 12]);
+        assert_eq!(e.unwrap_err().to_string(), "unknown FVF bits 0x1000");
+        let e = d.draw_point_list(Fvf(Fvf::DIFFUSE.0), &[0; 4]);
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "FVF has no position (XYZ, XYZW or XYZRHW)"
+        );
+        // One vertex over the limit; calloc'd zeroes, never touched, cost no memory.
+        let over = vec![0u8; (MAX_DRAW_VERTICES + 1) * Fvf::XYZ.stride()];
+        let e = d.draw_point_list(Fvf::XYZ, &over);
+        assert_eq!(
+            e.unwrap_err().to_string(),
+            "draw of 16777217 vertices is above the limit of 16777216 per draw"
+        );
+        assert_eq!(d.backend().draws, 0);
+        d.draw_point_list(Fvf::XYZ, &[0; 12]).unwrap();
+        assert_eq!(d.backend().draws, 1);
     }
 }

@@ -51,6 +51,17 @@ pub use error::{Origin, SceneError};
 /// The largest render target side a scene may ask for, in pixels.
 pub const MAX_TARGET_SIZE: u32 = pointillist_core::device::MAX_TARGET_SIZE;
 
+/// The most memory one render may hold, in bytes (docs/SCENE.md, limits): the target (its colour
+/// and depth buffers and the RGBA8 copy written out, 12 bytes a pixel), every texture with its mip
+/// chain, every draw's vertices and every emitter's particle storage. A scene over it is refused
+/// while it is read, at the key that crosses it, before the memory is taken.
+pub const MEMORY_BUDGET: u64 = 4 << 30;
+/// Bytes a render holds per target pixel: D3DCOLOR, depth and the RGBA8 copy written out.
+pub const TARGET_BYTES_PER_PIXEL: u64 = 12;
+/// Bytes an emitter holds per particle of `max_particles`: eleven f32 columns, its
+/// XYZ | PSIZE | DIFFUSE vertex, and when sorted a key and a second vertex copy.
+pub const PARTICLE_BYTES: u64 = 96;
+
 /// The render target of a scene: an A8R8G8B8 surface with a depth buffer.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct TargetDesc {
@@ -441,5 +452,7 @@ impl Scene {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_limits;
 #[cfg(test)]
 mod tests_particles;

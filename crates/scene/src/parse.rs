@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pointillist_core::caps::{Caps, VertexProcessing};
-use pointillist_core::device::{TransformType, Viewport};
+use pointillist_core::device::{MAX_DRAW_VERTICES, TransformType, Viewport};
 use pointillist_core::fvf::{self, Fvf, FvfError, RowValue};
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{
@@ -21,7 +21,10 @@ use crate::reader::{
     Fields, Source, Value, array, boolean, count, entries, expected, fields, finite, finite_in,
     float, floats, index, integer, integer_in, join, number, string, table, u32_value,
 };
-use crate::{Command, MAX_TARGET_SIZE, Scene, SceneError, Step, TargetDesc};
+use crate::{
+    Command, MAX_TARGET_SIZE, MEMORY_BUDGET, Scene, SceneError, Step, TARGET_BYTES_PER_PIXEL,
+    TargetDesc,
+};
 
 /// The scene format this version reads.
 const FORMAT: i64 = 1;
@@ -78,6 +81,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
         },
         viewport: None,
         steps: Vec::new(),
+        memory: Memory::default(),
     };
     p.scene(&root)
 }
@@ -93,6 +97,47 @@ struct Parser<'a> {
     /// The viewport in force, once the top level has set it.
     viewport: Option<Viewport>,
     steps: Vec<Step>,
+    /// What the render will hold so far, against [`MEMORY_BUDGET`].
+    memory: Memory,
+}
+
+/// Bytes a render will hold, by kind (docs/SCENE.md, limits).
+#[derive(Copy, Clone, Debug, Default)]
+struct Memory {
+    target: u64,
+    textures: u64,
+    vertices: u64,
+    particles: u64,
+}
+
+/// Which part of [`Memory`] a charge goes to.
+#[derive(Copy, Clone, Debug)]
+pub(crate) enum Charge {
+    Target,
+    Textures,
+    Vertices,
+    Particles,
+}
+
+impl Memory {
+    fn total(&self) -> u64 {
+        self.target + self.textures + self.vertices + self.particles
+    }
+}
+
+/// `bytes` in the largest binary unit that keeps it at least 1, one decimal: `1.5 GiB`.
+fn bytes_text(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
+    if bytes < 1024 {
+        return format!("{bytes} B");
+    }
+    let mut value = bytes as f64 / 1024.0;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    format!("{value:.1} {}", UNITS[unit])
 }
 
 impl Parser<'_> {
@@ -135,6 +180,14 @@ impl Parser<'_> {
         };
         let target = f.require(src, "target")?;
         self.target = self.target(target)?;
+        let pixels = u64::from(self.target.width) * u64::from(self.target.height);
+        self.charge(
+            Charge::Target,
+            pixels * TARGET_BYTES_PER_PIXEL,
+            target,
+            "target",
+            "the render target",
+        )?;
         let caps = match f.get("caps") {
             None => Caps::reference(),
             Some(v) => self.caps(v)?,
@@ -194,6 +247,45 @@ impl Parser<'_> {
             emitters,
             animation,
         })
+    }
+
+    /// Adds `bytes` of kind `kind` to what the render holds, or fails at `at` (key `key`) when
+    /// that goes over [`MEMORY_BUDGET`]; `what` names the item (`"this vertex file"`).
+    pub(crate) fn charge(
+        &mut self,
+        kind: Charge,
+        bytes: u64,
+        at: &Value<'_>,
+        key: &str,
+        what: &str,
+    ) -> Result<(), SceneError> {
+        let mut m = self.memory;
+        let slot = match kind {
+            Charge::Target => &mut m.target,
+            Charge::Textures => &mut m.textures,
+            Charge::Vertices => &mut m.vertices,
+            Charge::Particles => &mut m.particles,
+        };
+        *slot = slot.saturating_add(bytes);
+        if m.total() > MEMORY_BUDGET {
+            return Err(self.src.error(
+                &at.span(),
+                key,
+                format!(
+                    "{what} takes {}, which brings the render to {}, above the memory budget \
+                     of {} (target {}, textures {}, vertices {}, particles {})",
+                    bytes_text(bytes),
+                    bytes_text(m.total()),
+                    bytes_text(MEMORY_BUDGET),
+                    bytes_text(m.target),
+                    bytes_text(m.textures),
+                    bytes_text(m.vertices),
+                    bytes_text(m.particles),
+                ),
+            ));
+        }
+        self.memory = m;
+        Ok(())
     }
 
     fn push(&mut self, command: Command, at: &Value<'_>, key: &str) {
@@ -433,7 +525,11 @@ impl Parser<'_> {
         let texture = match (f.get("file"), inline, none) {
             (None, None, true) => None,
             (Some(file), None, false) => Some(self.texture_file(file, &f.path("file"))?),
-            (None, Some(_), false) => Some(Arc::new(self.inline_texture(&f)?)),
+            (None, Some(_), false) => {
+                let t = self.inline_texture(&f)?;
+                self.charge(Charge::Textures, texture_bytes(&t), v, path, "this texture")?;
+                Some(Arc::new(t))
+            }
             (None, None, false) => {
                 return Err(src.error(
                     &f.span,
@@ -473,11 +569,22 @@ impl Parser<'_> {
         if let Some(t) = self.textures.get(&key) {
             return Ok(Arc::clone(t));
         }
-        check_readable(&self.src, v, path, &file, "texture")?;
+        let len = check_readable(&self.src, v, path, &file, "texture")?;
+        // The file's bytes are held while it is decoded.
+        let before = self.memory;
+        self.charge(Charge::Textures, len, v, path, "this texture file")?;
+        self.memory = before;
         let texture = pointillist_image::load_texture(&file).map_err(|e| {
             self.src
                 .error(&v.span(), path, format!("cannot load texture {e}"))
         })?;
+        self.charge(
+            Charge::Textures,
+            texture_bytes(&texture),
+            v,
+            path,
+            "this texture",
+        )?;
         let texture = Arc::new(texture);
         self.textures.insert(key, Arc::clone(&texture));
         Ok(texture)
@@ -627,7 +734,18 @@ impl Parser<'_> {
         }
         .map_err(|e| src.error(&fvf_v.span(), &fvf_path, e.to_string()))?;
         let vertices = match (f.get("vertices"), f.get("file")) {
-            (Some(rows), None) => encode_rows(src, fvf, rows, &f.path("vertices"))?,
+            (Some(rows), None) => {
+                let key = f.path("vertices");
+                let bytes = encode_rows(src, fvf, rows, &key)?;
+                self.charge(
+                    Charge::Vertices,
+                    bytes.len() as u64,
+                    rows,
+                    &key,
+                    "these vertices",
+                )?;
+                bytes
+            }
             (None, Some(file)) => self.vertex_file(fvf, file, &f.path("file"))?,
             (None, None) => {
                 return Err(src.error(&f.span, path, "missing key `vertices` (or `file`)"));
@@ -644,25 +762,50 @@ impl Parser<'_> {
         Ok(())
     }
 
-    fn vertex_file(&self, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<Vec<u8>, SceneError> {
+    /// Reads a raw vertex file, after checking from its length that it holds whole vertices, at
+    /// most [`MAX_DRAW_VERTICES`] of them, within [`MEMORY_BUDGET`] (SCENE.md, `file =`).
+    fn vertex_file(&mut self, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<Vec<u8>, SceneError> {
         let src = &self.src;
         let name = string(src, v, path)?;
         let file = self.base.join(name);
-        check_readable(src, v, path, &file, "vertex")?;
+        let len = check_readable(src, v, path, &file, "vertex")?;
+        let stride = fvf.stride() as u64;
+        if len % stride != 0 {
+            return Err(src.error(
+                &v.span(),
+                path,
+                format!(
+                    "vertex file `{}` holds {len} bytes, not a multiple of the FVF stride {stride}",
+                    file.display(),
+                ),
+            ));
+        }
+        if len / stride > MAX_DRAW_VERTICES as u64 {
+            return Err(src.error(
+                &v.span(),
+                path,
+                format!(
+                    "vertex file `{}` holds {} vertices, above the limit of {MAX_DRAW_VERTICES} \
+                     per draw",
+                    file.display(),
+                    len / stride
+                ),
+            ));
+        }
+        self.charge(Charge::Vertices, len, v, path, "this vertex file")?;
         let bytes = std::fs::read(&file).map_err(|e| {
-            src.error(
+            self.src.error(
                 &v.span(),
                 path,
                 format!("cannot read vertex file `{}`: {e}", file.display()),
             )
         })?;
-        let stride = fvf.stride();
-        if bytes.len() % stride != 0 {
-            return Err(src.error(
+        if bytes.len() as u64 != len {
+            return Err(self.src.error(
                 &v.span(),
                 path,
                 format!(
-                    "vertex file `{}` holds {} bytes, not a multiple of the FVF stride {stride}",
+                    "vertex file `{}` changed while it was read ({len} bytes, then {})",
                     file.display(),
                     bytes.len()
                 ),
@@ -690,16 +833,22 @@ fn tables<'t, 'i>(
     }
 }
 
-/// Fails unless `file` exists; `what` is "texture" or "vertex".
+/// Bytes a texture holds: every level's texels, 4 bytes each.
+fn texture_bytes(t: &Texture) -> u64 {
+    t.levels().iter().map(|l| l.texels.len() as u64 * 4).sum()
+}
+
+/// The length of `file`, which must be a regular file (so never a device or a pipe that reads
+/// forever); `what` is "texture" or "vertex".
 fn check_readable(
     src: &Source<'_>,
     v: &Value<'_>,
     path: &str,
     file: &Path,
     what: &str,
-) -> Result<(), SceneError> {
+) -> Result<u64, SceneError> {
     match std::fs::metadata(file) {
-        Ok(m) if m.is_file() => Ok(()),
+        Ok(m) if m.is_file() => Ok(m.len()),
         Ok(_) => Err(src.error(
             &v.span(),
             path,
@@ -726,6 +875,16 @@ fn encode_rows(
     path: &str,
 ) -> Result<Vec<u8>, SceneError> {
     let rows = array(src, v, path)?;
+    if rows.len() > MAX_DRAW_VERTICES {
+        return Err(src.error(
+            &v.span(),
+            path,
+            format!(
+                "{} vertices are above the limit of {MAX_DRAW_VERTICES} per draw",
+                rows.len()
+            ),
+        ));
+    }
     let mut out = Vec::with_capacity(rows.len() * fvf.stride());
     let mut row = Vec::new();
     for (r, rv) in rows.iter().enumerate() {

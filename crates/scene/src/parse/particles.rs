@@ -11,12 +11,12 @@ use pointillist_particles::{
 };
 use toml::de::DeValue;
 
-use super::{Parser, state_value};
+use super::{Charge, Parser, state_value};
 use crate::reader::{
     Fields, Source, Value, array, boolean, count, entries, expected, fields, finite, float, floats,
     index, integer_in, join, string, u32_value,
 };
-use crate::{Animation, Camera, CameraKey, EmitterDesc, SceneError};
+use crate::{Animation, Camera, CameraKey, EmitterDesc, PARTICLE_BYTES, SceneError};
 
 /// The keys of an `[[emitter]]` table.
 pub(super) const EMITTER_KEYS: &[&str] = &[
@@ -628,6 +628,18 @@ impl Parser<'_> {
                 false,
             )? as usize,
         };
+        let (at, key) = match f.get("max_particles") {
+            Some(m) => (m, f.path("max_particles")),
+            None => (v, path.to_owned()),
+        };
+        self.charge(
+            Charge::Particles,
+            e.max_particles as u64 * PARTICLE_BYTES,
+            at,
+            &key,
+            "this emitter's particle storage",
+        )?;
+        let src = &self.src;
         // Every value was checked where it stands; this is a backstop.
         e.validate().map_err(|err| {
             let first = err.field.split(['.', '[']).next().unwrap_or_default();

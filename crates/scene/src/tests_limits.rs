@@ -1,0 +1,203 @@
+//! Hostile scene files: limits and malformed values, each refused with one line naming the file,
+//! line, column and key (SCENE.md; docs/SCENE.md, limits).
+
+use std::path::{Path, PathBuf};
+
+use crate::parse;
+
+const FILE: &str = "tests/data/test.toml";
+const HEAD: &str = "format = 1\n[target]\nwidth = 64\nheight = 32\n";
+
+fn err(body: &str) -> String {
+    let src = format!("{HEAD}{body}");
+    match parse(&src, Path::new(FILE)) {
+        Ok(_) => panic!("parsed:\n{src}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn err_at(src: &str, file: &Path) -> String {
+    match parse(src, file) {
+        Ok(_) => panic!("parsed:\n{src}"),
+        Err(e) => {
+            let line = e.to_string();
+            assert!(!line.contains('\n'), "{line}");
+            line
+        }
+    }
+}
+
+/// A fresh folder under the system's temporary folder.
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pointillist-limits-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn negative_and_zero_sizes_name_the_range() {
+    let e = err_at(
+        "format = 1\n[target]\nwidth = -640\nheight = 4\n",
+        Path::new("s.toml"),
+    );
+    assert_eq!(e, "s.toml:3:9: target.width: -640 is outside 1..=16384");
+    assert_eq!(
+        err("[viewport]\nwidth = -1\n"),
+        "tests/data/test.toml:6:9: viewport.width: -1 is outside 1..=64"
+    );
+    assert_eq!(
+        err("[viewport]\nheight = 0\n"),
+        "tests/data/test.toml:6:10: viewport.height: 0 is outside 1..=32"
+    );
+    assert_eq!(
+        err("[viewport]\nx = -3\n"),
+        "tests/data/test.toml:6:5: viewport.x: -3 is outside 0..=63"
+    );
+    assert_eq!(
+        err("[[texture]]\nstage = 0\nwidth = 0\nheight = 1\ntexels = []\n"),
+        "tests/data/test.toml:7:9: texture[0].width: 0 is outside 1..=16384"
+    );
+    assert_eq!(
+        err("[[texture]]\nstage = 0\nwidth = 16385\nheight = 1\ntexels = []\n"),
+        "tests/data/test.toml:7:9: texture[0].width: 16385 is outside 1..=16384"
+    );
+}
+
+#[test]
+fn viewport_outside_the_target_and_depth_ranges() {
+    assert_eq!(
+        err("[viewport]\ny = 8\nheight = 30\n"),
+        "tests/data/test.toml:7:10: viewport.height: y + height = 38 exceeds the target height 32"
+    );
+    assert_eq!(
+        err("[viewport]\nmax_z = 1.5\n"),
+        "tests/data/test.toml:6:9: viewport.max_z: 1.5 is outside 0.0..=1.0"
+    );
+    assert_eq!(
+        err("[viewport]\nmin_z = nan\n"),
+        "tests/data/test.toml:6:9: viewport.min_z: expected a finite number, found NaN"
+    );
+    // A per-draw change is checked against the viewport in force.
+    assert_eq!(
+        err(
+            "[viewport]\nmax_z = 0.5\n[[draw]]\nfvf = \"XYZ\"\nvertices = []\nviewport = { min_z = 0.7 }\n"
+        ),
+        "tests/data/test.toml:10:22: draw[0].viewport.min_z: min_z 0.7 is greater than max_z 0.5"
+    );
+}
+
+#[test]
+fn unknown_fvf_bits_and_indices() {
+    assert_eq!(
+        err("[[draw]]\nfvf = 0x1002\nvertices = []\n"),
+        "tests/data/test.toml:6:7: draw[0].fvf: unknown FVF bits 0x1000"
+    );
+    assert_eq!(
+        err("[[draw]]\nfvf = -2\nvertices = []\n"),
+        "tests/data/test.toml:6:7: draw[0].fvf: -2 is outside 0x0..=0xFFFFFFFF"
+    );
+    assert_eq!(
+        err("[[draw]]\nfvf = \"DIFFUSE\"\nvertices = []\n"),
+        "tests/data/test.toml:6:7: draw[0].fvf: FVF has no position (XYZ, XYZW or XYZRHW)"
+    );
+    assert_eq!(
+        err("[[clip_plane]]\nindex = -1\nplane = [0, 0, 0, 0]\n"),
+        "tests/data/test.toml:6:9: clip_plane[0].index: -1 is outside 0..=5"
+    );
+    assert_eq!(
+        err("[stage.-1]\nCOLOROP = \"ADD\"\n"),
+        "tests/data/test.toml:5:8: stage.-1: expected a stage number 0..=7, found `-1`"
+    );
+}
+
+#[test]
+fn a_vertex_file_above_the_vertex_limit_is_refused_before_it_is_read() {
+    let dir = scratch("vertices");
+    // A sparse file: its length says 2^24 + 1 XYZ vertices without taking the disk space.
+    let big = std::fs::File::create(dir.join("big.bin")).unwrap();
+    big.set_len((pointillist_core::device::MAX_DRAW_VERTICES as u64 + 1) * 12)
+        .unwrap();
+    let scene = dir.join("s.toml");
+    let e = err_at(
+        &format!("{HEAD}[[draw]]\nfvf = \"XYZ\"\nfile = \"big.bin\"\n"),
+        &scene,
+    );
+    assert_eq!(
+        e,
+        format!(
+            "{}:7:8: draw[0].file: vertex file `{}` holds 16777217 vertices, above the limit of \
+             16777216 per draw",
+            scene.display(),
+            dir.join("big.bin").display()
+        )
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_device_file_is_not_read_as_vertices_or_texture() {
+    if !Path::new("/dev/zero").exists() {
+        return;
+    }
+    assert_eq!(
+        err("[[draw]]\nfvf = \"XYZ\"\nfile = \"/dev/zero\"\n"),
+        "tests/data/test.toml:7:8: draw[0].file: vertex file `/dev/zero` is not a file"
+    );
+    assert_eq!(
+        err("[[texture]]\nstage = 0\nfile = \"/dev/zero\"\n"),
+        "tests/data/test.toml:7:8: texture[0].file: texture file `/dev/zero` is not a file"
+    );
+}
+
+#[test]
+fn a_scene_over_the_memory_budget_is_refused_at_the_key_that_crosses_it() {
+    // The largest target (3 GiB with its depth buffer and output copy) and the largest emitter
+    // (1.5 GiB of particle storage): nothing is allocated while the file is read.
+    let src = "format = 1\n[target]\nwidth = 16384\nheight = 16384\n\
+               [[emitter]]\nrate = 10\nmax_particles = 16777216\n";
+    assert_eq!(
+        err_at(src, Path::new("big.toml")),
+        "big.toml:7:17: emitter[0].max_particles: this emitter's particle storage takes 1.5 GiB, \
+         which brings the render to 4.5 GiB, above the memory budget of 4.0 GiB (target 3.0 \
+         GiB, textures 0 B, vertices 0 B, particles 1.5 GiB)"
+    );
+    // Half of each fits.
+    let src = "format = 1\n[target]\nwidth = 16384\nheight = 8192\n\
+               [[emitter]]\nrate = 10\nmax_particles = 8388608\n";
+    assert!(parse(src, Path::new("half.toml")).is_ok());
+}
+
+#[test]
+fn a_texture_that_does_not_decode_names_the_file_and_the_reason() {
+    let dir = scratch("texture");
+    std::fs::write(dir.join("cut.png"), &b"\x89PNG\r\n\x1a\n\0\0"[..]).unwrap();
+    std::fs::write(dir.join("cut.dds"), b"DDS \x7c\0\0\0").unwrap();
+    let scene = dir.join("s.toml");
+    let e = err_at(
+        &format!("{HEAD}[[texture]]\nstage = 0\nfile = \"cut.png\"\n"),
+        &scene,
+    );
+    assert!(
+        e.starts_with(&format!(
+            "{}:7:8: texture[0].file: cannot load texture {}: PNG decoding failed: ",
+            scene.display(),
+            dir.join("cut.png").display()
+        )),
+        "{e}"
+    );
+    let e = err_at(
+        &format!("{HEAD}[[texture]]\nstage = 1\nfile = \"cut.dds\"\n"),
+        &scene,
+    );
+    assert_eq!(
+        e,
+        format!(
+            "{}:7:8: texture[0].file: cannot load texture {}: truncated data: DDS header needs \
+             124 bytes at offset 4 but the data is 8 bytes long",
+            scene.display(),
+            dir.join("cut.dds").display()
+        )
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
