@@ -74,8 +74,13 @@ pub struct BenchOptions {
 }
 
 /// Runs the benchmark and returns one report line per renderer and workload, with the
-/// ratio of each peer's median to pointillist's.
-pub fn run(options: &BenchOptions, mut line: impl FnMut(&str)) -> Result<(), String> {
+/// ratio of each peer's median to pointillist's. `ours` times pointillist on a workload
+/// (`time_pointillist` for the CPU backend; the CLI passes a GPU timer for `--backend gpu`).
+pub fn run(
+    options: &BenchOptions,
+    mut ours: impl FnMut(&Workload, usize) -> Result<Timing, String>,
+    mut line: impl FnMut(&str),
+) -> Result<(), String> {
     let peer = if options.llvmpipe {
         let p = llvmpipe::Peer::new()?;
         line(&format!("peer: {}", p.renderer()));
@@ -90,7 +95,7 @@ pub fn run(options: &BenchOptions, mut line: impl FnMut(&str)) -> Result<(), Str
     for &kind in &options.kinds {
         let points = options.points.unwrap_or(kind.default_points());
         let w = Workload::new(kind, points);
-        let ours = time_pointillist(&w, options.frames).map_err(|e| e.to_string())?;
+        let ours = ours(&w, options.frames)?;
         let base = ours.median();
         let mpts = points as f64 / base.as_secs_f64() / 1e6;
         line(&format!(

@@ -1,31 +1,45 @@
-//! `pointillist bench`: the performance workloads on the CPU backend, with Mesa llvmpipe and a
-//! naive loop beside them in the same run (docs/PERFORMANCE.md quotes its output).
+//! `pointillist bench`: the performance workloads on the CPU or the GPU backend, with Mesa
+//! llvmpipe and a naive loop beside them in the same run, and the particle snow storm
+//! (docs/PERFORMANCE.md quotes its output).
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use clap::Args;
-use pointillist_bench::workloads::Kind;
-use pointillist_bench::{BenchOptions, run as run_bench};
+use pointillist_bench::workloads::{Kind, Workload};
+use pointillist_bench::{BenchOptions, Timing, ms, run as run_bench, time_pointillist};
+use pointillist_core::device::{Backend, Device, DeviceDesc, TransformType};
+use pointillist_core::math::Mat4;
+use pointillist_gpu::{ContextOptions, GpuBackend, GpuContext};
+use pointillist_particles::{DrawBuffers, ParticleSystem, presets};
+
+use crate::BackendKind;
+use crate::backend::gpu_context;
 
 /// The long description of `pointillist bench --help`.
 pub const LONG_ABOUT: &str = "\
 Time the performance workloads and print per-frame medians (clear + draw + finish).
 
-  W1  1,000,000 pre-transformed 4 px points, flat colours, ONE/ONE, 1024x768
-  W2  1,000,000 points of 4-8 px, POINTSPRITEENABLE, 16x16 texture, point sampling,
-      MODULATE with diffuse, ONE/ONE, 1024x768
-  W3  20,000 points of 64 px, 64x64 texture, bilinear, SRCALPHA/INVSRCALPHA, 1920x1080
-  W4  200,000 perspective points, POINTSCALEENABLE, depth test, alpha blending, 1920x1080
+  W1    1,000,000 pre-transformed 4 px points, flat colours, ONE/ONE, 1024x768
+  W2    1,000,000 points of 4-8 px, POINTSPRITEENABLE, 16x16 texture, point sampling,
+        MODULATE with diffuse, ONE/ONE, 1024x768
+  W3    20,000 points of 64 px, 64x64 texture, bilinear, SRCALPHA/INVSRCALPHA, 1920x1080
+  W4    200,000 perspective points, POINTSCALEENABLE, depth test, alpha blending, 1920x1080
+  snow  the 200,000-flake snow storm preset at 1920x1080: one 1/60 s simulation step, then
+        clear + draw, per frame (simulation alone is timed too)
 
-With --peer llvmpipe the same points are drawn with Mesa llvmpipe's OpenGL point sprites
-(surfaceless EGL; Debian: libegl1 libegl-mesa0 libgl1-mesa-dri) and the ratio is printed.
-Threads: RAYON_NUM_THREADS sets how many the CPU backend uses.";
+--backend gpu times the GPU backend on whatever adapter wgpu finds (a frame ends when the GPU
+is idle). With --peer llvmpipe the same points are drawn with Mesa llvmpipe's OpenGL point
+sprites (surfaceless EGL; Debian: libegl1 libegl-mesa0 libgl1-mesa-dri) and the ratio is
+printed. Threads: RAYON_NUM_THREADS sets how many the CPU backend and the simulation use.";
 
 /// Arguments of `pointillist bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Workloads to run (w1, w2, w3, w4), comma-separated.
+    /// Workloads to run (w1, w2, w3, w4, snow), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "w1,w2,w3,w4")]
     workloads: Vec<String>,
-    /// Points per workload instead of each workload's default.
+    /// Points per workload (flakes for snow) instead of each workload's default.
     #[arg(long)]
     points: Option<usize>,
     /// Timed frames per renderer (after one warm-up frame).
@@ -37,15 +51,32 @@ pub struct BenchArgs {
     /// Also time the naive single-thread loop (W1 only).
     #[arg(long)]
     naive: bool,
+    /// The backend that draws.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = BackendKind::Cpu)]
+    backend: BackendKind,
+    /// With --backend gpu: blend with the GPU's fixed-function blender (within 1/255 a blend)
+    /// instead of the exact compute path that draws with fractional blend factors take by
+    /// default (W3, W4, translucent particles).
+    #[arg(long)]
+    fixed_function_blending: bool,
 }
+
+/// Flakes in the snow storm of the particle issue.
+const SNOW_FLAKES: usize = 200_000;
 
 /// Runs the benchmark, printing one line per renderer and workload.
 pub fn run(args: &BenchArgs) -> Result<(), String> {
-    let kinds = args
-        .workloads
-        .iter()
-        .map(|w| Kind::parse(w).ok_or_else(|| format!("unknown workload `{w}` (expected w1..w4)")))
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut kinds = Vec::new();
+    let mut snow = false;
+    for w in &args.workloads {
+        if w.eq_ignore_ascii_case("snow") {
+            snow = true;
+        } else {
+            kinds.push(Kind::parse(w).ok_or_else(|| {
+                format!("unknown workload `{w}` (expected w1, w2, w3, w4 or snow)")
+            })?);
+        }
+    }
     let llvmpipe = match args.peer.as_deref() {
         None => false,
         Some(p) if p.eq_ignore_ascii_case("llvmpipe") => true,
@@ -54,12 +85,168 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     if args.frames == 0 {
         return Err("--frames must be at least 1".into());
     }
-    let options = BenchOptions {
-        kinds,
-        points: args.points,
-        frames: args.frames,
-        llvmpipe,
-        naive: args.naive,
+    let gpu = match args.backend {
+        BackendKind::Cpu if args.fixed_function_blending => {
+            return Err("--fixed-function-blending needs --backend gpu".into());
+        }
+        BackendKind::Cpu => None,
+        BackendKind::Gpu => {
+            let ctx = if args.fixed_function_blending {
+                GpuContext::new(ContextOptions {
+                    fixed_function_blending: true,
+                    ..ContextOptions::default()
+                })
+                .map_err(|e| format!("--backend gpu: {e}"))?
+            } else {
+                gpu_context()?
+            };
+            let a = ctx.adapter();
+            println!(
+                "adapter: {} ({}, {}, {}); blending: {}",
+                a.name,
+                a.backend,
+                a.device_type,
+                a.driver,
+                if args.fixed_function_blending {
+                    "fixed function"
+                } else {
+                    "exact path for fractional factors"
+                }
+            );
+            Some(ctx)
+        }
     };
-    run_bench(&options, |line| println!("{line}"))
+    if !kinds.is_empty() {
+        let options = BenchOptions {
+            kinds,
+            points: args.points,
+            frames: args.frames,
+            llvmpipe,
+            naive: args.naive,
+        };
+        let ours = |w: &Workload, frames: usize| match &gpu {
+            None => time_pointillist(w, frames).map_err(|e| e.to_string()),
+            Some(ctx) => time_gpu(ctx, w, frames),
+        };
+        run_bench(&options, ours, |line| println!("{line}"))?;
+    }
+    if snow {
+        snow_storm(args.points.unwrap_or(SNOW_FLAKES), args.frames, gpu)?;
+    }
+    Ok(())
+}
+
+/// Times `frames` frames of `w` on the GPU backend (clear + draw + wait for the GPU), after
+/// one warm-up frame that also compiles the pipeline.
+fn time_gpu(ctx: &Arc<GpuContext>, w: &Workload, frames: usize) -> Result<Timing, String> {
+    let err = |e: &dyn std::fmt::Display| e.to_string();
+    let mut device =
+        Device::new(GpuBackend::with_context(ctx.clone()), w.device_desc()).map_err(|e| err(&e))?;
+    w.configure(&mut device).map_err(|e| err(&e))?;
+    let frames = time_frames(frames, || {
+        device.clear(w.clear_color, 1.0).map_err(|e| err(&e))?;
+        device
+            .draw_point_list(w.fvf, &w.vertices)
+            .map_err(|e| err(&e))?;
+        ctx.wait_idle().map_err(|e| err(&e))
+    })?;
+    Ok(Timing {
+        renderer: "pointillist gpu".into(),
+        frames,
+    })
+}
+
+/// Runs `frame` once to warm up, then `frames` times, returning each timed run's wall time.
+fn time_frames(
+    frames: usize,
+    mut frame: impl FnMut() -> Result<(), String>,
+) -> Result<Vec<Duration>, String> {
+    frame()?;
+    (0..frames)
+        .map(|_| {
+            let start = Instant::now();
+            frame()?;
+            Ok(start.elapsed())
+        })
+        .collect()
+}
+
+/// The median of `times` (not empty).
+fn median(times: &[Duration]) -> Duration {
+    let mut t = times.to_vec();
+    t.sort();
+    t[t.len() / 2]
+}
+
+/// The snow storm preset with `flakes` flakes at its steady state, simulated alone and
+/// simulated and drawn at 1920x1080 on the chosen backend.
+fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Result<(), String> {
+    let texture = Arc::new(presets::soft_disc_texture(32));
+    let config = presets::snow_storm_system(flakes, Some(texture), 1);
+    let mut system = ParticleSystem::new(config).map_err(|e| e.to_string())?;
+    eprintln!("snow: warming the storm up to its steady state (18 s of simulation)...");
+    system.advance_to(18.0);
+    let live = system.len();
+
+    let step = time_frames(frames, || {
+        system.step();
+        Ok(())
+    })?;
+    let step = median(&step);
+    println!(
+        "snow {live} flakes: simulate one 1/60 s step {:>10}  {:8.1} M particles/s",
+        ms(step),
+        live as f64 / step.as_secs_f64() / 1e6
+    );
+
+    let desc = DeviceDesc::new(1920, 1080);
+    let (name, frame) = match gpu {
+        None => {
+            let device = pointillist_cpu::device(desc).map_err(|e| e.to_string())?;
+            ("cpu", snow_frames(&mut system, device, frames, || Ok(()))?)
+        }
+        Some(ctx) => {
+            let device = Device::new(GpuBackend::with_context(ctx.clone()), desc)
+                .map_err(|e| e.to_string())?;
+            let frame = snow_frames(&mut system, device, frames, || {
+                ctx.wait_idle().map_err(|e| e.to_string())
+            })?;
+            ("gpu", frame)
+        }
+    };
+    println!(
+        "snow {live} flakes 1920x1080: simulate + draw, {name:<16} {:>10}  {:8.1} frames/s  {:8.1} M particles/s",
+        ms(frame),
+        1.0 / frame.as_secs_f64(),
+        live as f64 / frame.as_secs_f64() / 1e6
+    );
+    Ok(())
+}
+
+/// Times simulate + clear + draw (+ `finish`) frames of `system` on `device`, with the
+/// camera of the snow bench (crates/particles/benches/snow.rs).
+fn snow_frames<B: Backend>(
+    system: &mut ParticleSystem,
+    mut device: Device<B>,
+    frames: usize,
+    mut finish: impl FnMut() -> Result<(), String>,
+) -> Result<Duration, String> {
+    device.set_transform(
+        TransformType::View,
+        Mat4::look_at_lh([0.0, 4.0, -20.0], [0.0, 4.0, 0.0], [0.0, 1.0, 0.0]),
+    );
+    device.set_transform(
+        TransformType::Projection,
+        Mat4::perspective_fov_lh(1.047, 1920.0 / 1080.0, 0.1, 200.0),
+    );
+    let mut buffers = DrawBuffers::new();
+    let times = time_frames(frames, || {
+        system.step();
+        device.clear(0xFF10_1820, 1.0).map_err(|e| e.to_string())?;
+        system
+            .draw(&mut device, &mut buffers)
+            .map_err(|e| e.to_string())?;
+        finish()
+    })?;
+    Ok(median(&times))
 }
