@@ -425,22 +425,33 @@ fn lerp(a: Rgba, b: Rgba, t: f32) -> Rgba {
     ]
 }
 
-/// Samples one level with point or linear filtering; `u`, `v` already sanitized.
+/// SPEC 5.2, point sampling along one axis of `size` texels: the texel index `floor(coord *
+/// size)` before addressing (NaN counts as 0, huge coordinates are clamped).
+#[inline]
+pub fn point_texel(coord: f32, size: u32) -> i64 {
+    floor_i64(sanitize(coord) * size as f32)
+}
+
+/// SPEC 5.2, linear filtering along one axis of `size` texels: the index `k` of the first of
+/// the two texels before addressing and the weight of the second, from `x = coord * size - 0.5`,
+/// `k = floor(x)`, weight `x - k` (NaN counts as 0, huge coordinates are clamped).
+#[inline]
+pub fn linear_texel(coord: f32, size: u32) -> (i64, f32) {
+    let x = sanitize(coord) * size as f32 - 0.5;
+    let k = floor_i64(x);
+    (k, x - k as f32)
+}
+
+/// Samples one level with point or linear filtering.
 #[inline]
 fn sample_level(level: &Level, s: &SamplerDesc, u: f32, v: f32, linear: bool) -> Rgba {
-    let w = level.width as f32;
-    let h = level.height as f32;
     if !linear {
-        let k = floor_i64(u * w);
-        let l = floor_i64(v * h);
+        let k = point_texel(u, level.width);
+        let l = point_texel(v, level.height);
         return color::unpack(fetch(level, s, k, l));
     }
-    let x = u * w - 0.5;
-    let y = v * h - 0.5;
-    let k = floor_i64(x);
-    let l = floor_i64(y);
-    let fx = x - k as f32;
-    let fy = y - l as f32;
+    let (k, fx) = linear_texel(u, level.width);
+    let (l, fy) = linear_texel(v, level.height);
     let (w, h) = (i64::from(level.width), i64::from(level.height));
     if k >= 0 && l >= 0 && k + 1 < w && l + 1 < h {
         // All four texels inside: every address mode leaves the indices as they are.
@@ -469,12 +480,26 @@ pub struct LodSampler<'a> {
     desc: SamplerDesc,
 }
 
-impl LodSampler<'_> {
+impl<'a> LodSampler<'a> {
+    /// The level sampled; with [`LodSampler::mip_blend`] `None` and every texel index inside it,
+    /// a sample reads only this level's texels at [`point_texel`] or [`linear_texel`] indices.
+    pub fn level(&self) -> &'a Level {
+        self.level
+    }
+
+    /// The second level of a MIPFILTER LINEAR blend and its weight, if any.
+    pub fn mip_blend(&self) -> Option<(&'a Level, f32)> {
+        self.blend
+    }
+
+    /// True when the sample filters linearly (SPEC 5.2), false for point sampling.
+    pub fn is_linear(&self) -> bool {
+        self.linear
+    }
+
     /// Samples at `(u, v)`; NaN counts as 0, huge coordinates are clamped (SPEC 5.2).
     #[inline]
     pub fn sample(&self, u: f32, v: f32) -> Rgba {
-        let u = sanitize(u);
-        let v = sanitize(v);
         let c0 = sample_level(self.level, &self.desc, u, v, self.linear);
         match self.blend {
             Some((level, frac)) => {

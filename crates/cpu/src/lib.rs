@@ -21,6 +21,7 @@
 //! ```
 
 mod raster;
+mod simd;
 
 use pointillist_core::device::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,

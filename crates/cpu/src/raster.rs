@@ -11,6 +11,11 @@
 //! (replace, additive, source-alpha, general) and the shading kind (the diffuse colour, one
 //! MODULATE stage, or the general cascade). Each fast path computes exactly the float
 //! operations of the core reference ([`pointillist_core::pixel`]) and is tested against it.
+//!
+//! Textured sprites with one MODULATE stage sample level texels directly wherever the texel
+//! indices of a pixel are inside the level (decided per column and per row, computed once per
+//! point with the core's [`point_texel`] and [`linear_texel`]) and do their colour arithmetic
+//! four channels at a time ([`F4`]); anywhere else they call the core sampler.
 
 use pointillist_core::color::{Rgba, pack, unpack};
 use pointillist_core::device::{DeviceState, MAX_STAGES, RenderTarget};
@@ -18,10 +23,14 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::pixel::{
     BlendSetup, PixelSetup, ShadeInputs, alpha_test_passes, blend, compare, write_masked,
 };
-use pointillist_core::point::{PointSetup, ScreenPoint, sprite_coord, sprite_lod};
+use pointillist_core::point::{
+    PixelPlane, PixelRect, PointSetup, ScreenPoint, sprite_coord, sprite_lod,
+};
 use pointillist_core::states::{Blend, BlendOp, TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
-use pointillist_core::texture::{LodSampler, SamplerDesc, Texture};
+use pointillist_core::texture::{LodSampler, SamplerDesc, Texture, linear_texel, point_texel};
 use rayon::prelude::*;
+
+use crate::simd::F4;
 
 /// Target rows per band: small enough to spread work over threads, large enough that small
 /// sprites rarely straddle two bands.
@@ -59,20 +68,16 @@ impl Blender for Additive {
     }
 }
 
-/// SRCALPHA, INVSRCALPHA, ADD on every channel: the reference's arithmetic without building
-/// factor tables.
+/// SRCALPHA, INVSRCALPHA, ADD on every channel: the reference's arithmetic
+/// `s * a + d * (1 - a)` without building factor tables, four channels at once.
 struct SourceAlpha;
 impl Blender for SourceAlpha {
     #[inline(always)]
     fn blend(&self, src: u32, dst: u32) -> u32 {
-        let (s, d) = (unpack(src), unpack(dst));
-        let (fs, fd) = (s[3], 1.0 - s[3]);
-        pack([
-            s[0] * fs + d[0] * fd,
-            s[1] * fs + d[1] * fd,
-            s[2] * fs + d[2] * fd,
-            s[3] * fs + d[3] * fd,
-        ])
+        let (s, d) = (F4::from_argb(src), F4::from_argb(dst));
+        let fs = s.alpha();
+        let fd = F4::splat(1.0).sub(fs);
+        s.mul(fs).add(d.mul(fd)).to_argb()
     }
 }
 
@@ -164,6 +169,27 @@ struct DrawContext<'a> {
     vertices: &'a [u8],
 }
 
+/// Per-point working memory, reused from point to point so no point allocates.
+#[derive(Default)]
+struct Scratch {
+    /// Sprite u per covered column (SPEC 4.3).
+    u: Vec<f32>,
+    /// Texel column per covered column, for [`fill_modulate`].
+    cols: Vec<Column>,
+}
+
+/// One covered column of a sprite with one MODULATE stage.
+#[derive(Copy, Clone)]
+struct Column {
+    /// Sprite u (SPEC 4.3).
+    u: f32,
+    /// The first texel column read, or -1 when the core sampler must decide (outside the level,
+    /// or a blend of two levels).
+    k: i32,
+    /// Weight of the second texel column (linear filtering).
+    fx: f32,
+}
+
 /// The rows `y0..y1` of the target, owned by one task.
 struct Band<'t> {
     color: &'t mut [u32],
@@ -174,6 +200,17 @@ struct Band<'t> {
 }
 
 pub(crate) fn draw(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertices: &[u8]) {
+    let ctx = context(state, fvf, vertices);
+    match ctx.pixel.blend {
+        None => draw_with(&ctx, &Replace, target),
+        Some(b) if b.is_additive() => draw_with(&ctx, &Additive, target),
+        Some(b) if is_source_alpha(&b) => draw_with(&ctx, &SourceAlpha, target),
+        Some(b) => draw_with(&ctx, &General(b), target),
+    }
+}
+
+/// Resolves the states of a draw (SPEC 5.1 to 5.6) once.
+fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawContext<'a> {
     let pixel = PixelSetup::new(state);
     let textures = std::array::from_fn(|i| {
         let stage = &pixel.stages[i];
@@ -186,18 +223,12 @@ pub(crate) fn draw(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, ver
             set: stage.texcoord_set,
         })
     });
-    let ctx = DrawContext {
+    DrawContext {
         points: PointSetup::new(state, fvf),
         shading: shading(&pixel),
         pixel,
         textures,
         vertices,
-    };
-    match ctx.pixel.blend {
-        None => draw_with(&ctx, &Replace, target),
-        Some(b) if b.is_additive() => draw_with(&ctx, &Additive, target),
-        Some(b) if is_source_alpha(&b) => draw_with(&ctx, &SourceAlpha, target),
-        Some(b) => draw_with(&ctx, &General(b), target),
     }
 }
 
@@ -213,33 +244,204 @@ fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget) {
             y0: 0,
             y1: target.height as i32,
         };
-        let mut u = Vec::new();
+        let mut scratch = Scratch::default();
         for index in 0..count {
             if let Some(p) = ctx.points.process(ctx.vertices, index) {
-                fill(ctx, b, &p, &mut band, &mut u);
+                fill(ctx, b, &p, &mut band, &mut scratch);
             }
         }
         return;
     }
+    let pixel_planes = ctx.points.scaled_planes() && !ctx.points.user_planes().is_empty();
+    if pixel_planes {
+        draw_binned::<B, Index>(ctx, b, target, count, threads);
+    } else if ctx.pixel.is_flat() && ctx.shading == Shading::Diffuse {
+        draw_binned::<B, Solid>(ctx, b, target, count, threads);
+    } else if !ctx.pixel.is_flat() && matches!(ctx.shading, Shading::Modulate(_)) {
+        draw_binned::<B, Sprite>(ctx, b, target, count, threads);
+    } else {
+        draw_binned::<B, Index>(ctx, b, target, count, threads);
+    }
+}
+
+/// What a bin keeps of a point: enough to fill it without running the per-point stage again.
+trait Binned: Copy + Send + Sync {
+    /// The compact form of `p`, vertex `index` of the draw; `None` when it writes no pixel.
+    fn new(ctx: &DrawContext, p: &ScreenPoint, index: u32) -> Option<Self>;
+    /// First and one-past-last covered row.
+    fn rows(&self) -> (i32, i32);
+    /// Fills the point's pixels inside `band`, as [`fill`] does.
+    fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch);
+}
+
+/// Any point: its vertex index and rows; the fill runs the per-point stage again (it is
+/// pure, so it gives the same point).
+#[derive(Copy, Clone)]
+struct Index {
+    vertex: u32,
+    rows: [u16; 2],
+}
+impl Binned for Index {
+    fn new(_: &DrawContext, p: &ScreenPoint, vertex: u32) -> Option<Index> {
+        Some(Index {
+            vertex,
+            rows: [p.rect.y0 as u16, p.rect.y1 as u16],
+        })
+    }
+    fn rows(&self) -> (i32, i32) {
+        (i32::from(self.rows[0]), i32::from(self.rows[1]))
+    }
+    fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
+        if let Some(p) = ctx.points.process(ctx.vertices, self.vertex) {
+            fill(ctx, b, &p, band, s);
+        }
+    }
+}
+
+/// A point of one colour, the diffuse colour ([`Shading::Diffuse`]), without per-pixel clip
+/// planes: the rectangle (target sizes fit u16, [`MAX_TARGET_SIZE`]), depth and colour, 16
+/// bytes. Points the alpha test rejects (SPEC 5.4) are not binned.
+///
+/// [`MAX_TARGET_SIZE`]: pointillist_core::device::MAX_TARGET_SIZE
+#[derive(Copy, Clone)]
+struct Solid {
+    rect: [u16; 4],
+    z: f32,
+    color: u32,
+}
+impl Binned for Solid {
+    #[inline]
+    fn new(ctx: &DrawContext, p: &ScreenPoint, _: u32) -> Option<Solid> {
+        let r = p.rect;
+        alpha_test_passes(ctx.pixel.alpha_test, p.diffuse).then_some(Solid {
+            rect: [r.x0 as u16, r.y0 as u16, r.x1 as u16, r.y1 as u16],
+            z: p.z,
+            color: p.diffuse,
+        })
+    }
+    #[inline]
+    fn rows(&self) -> (i32, i32) {
+        (i32::from(self.rect[1]), i32::from(self.rect[3]))
+    }
+    #[inline]
+    fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, _: &mut Scratch) {
+        let [x0, y0, x1, y1] = self.rect.map(i32::from);
+        let rect = PixelRect { x0, y0, x1, y1 };
+        fill_solid(ctx, b, rect, self.z, self.color, band);
+    }
+}
+
+/// A textured sprite with [`Shading::Modulate`] and no per-pixel clip planes: rectangle,
+/// depth, diffuse colour, near edges and size (SPEC 4.3), 28 bytes.
+#[derive(Copy, Clone)]
+struct Sprite {
+    rect: [u16; 4],
+    z: f32,
+    diffuse: u32,
+    left: f32,
+    top: f32,
+    size: f32,
+}
+impl Binned for Sprite {
+    #[inline]
+    fn new(_: &DrawContext, p: &ScreenPoint, _: u32) -> Option<Sprite> {
+        let r = p.rect;
+        Some(Sprite {
+            rect: [r.x0 as u16, r.y0 as u16, r.x1 as u16, r.y1 as u16],
+            z: p.z,
+            diffuse: p.diffuse,
+            left: p.left,
+            top: p.top,
+            size: p.size,
+        })
+    }
+    #[inline]
+    fn rows(&self) -> (i32, i32) {
+        (i32::from(self.rect[1]), i32::from(self.rect[3]))
+    }
+    fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
+        let [x0, y0, x1, y1] = self.rect.map(i32::from);
+        let p = ScreenPoint {
+            // The centre is not read by the fill; specular and the vertex only by the cascade.
+            x: 0.0,
+            y: 0.0,
+            z: self.z,
+            size: self.size,
+            left: self.left,
+            top: self.top,
+            rect: PixelRect { x0, y0, x1, y1 },
+            diffuse: self.diffuse,
+            specular: 0,
+            vertex: 0,
+            planes: [PixelPlane::default(); 6],
+            plane_count: 0,
+        };
+        fill(ctx, b, &p, band, s);
+    }
+}
+
+/// One chunk of the draw's points, binned: `points` in vertex order, and for each band `n`
+/// the positions in `points` of those touching it, `order[starts[n]..starts[n + 1]]`,
+/// ascending.
+struct Chunk<P> {
+    points: Vec<P>,
+    starts: Vec<u32>,
+    order: Vec<u32>,
+}
+
+/// The bands of [`BAND_ROWS`] rows that rows `y0..y1` touch.
+#[inline]
+fn bands_of((y0, y1): (i32, i32)) -> std::ops::RangeInclusive<usize> {
+    y0 as usize / BAND_ROWS..=(y1 as usize - 1) / BAND_ROWS
+}
+
+/// Runs the per-point stage on vertices `range` once, keeping `P` per point, and bins them.
+fn bin<P: Binned>(ctx: &DrawContext, range: std::ops::Range<u32>, bands: usize) -> Chunk<P> {
+    let mut points = Vec::with_capacity(range.len());
+    let mut starts = vec![0u32; bands + 1];
+    for index in range {
+        if let Some(p) = ctx.points.process(ctx.vertices, index) {
+            if let Some(c) = P::new(ctx, &p, index) {
+                for n in bands_of(c.rows()) {
+                    starts[n + 1] += 1;
+                }
+                points.push(c);
+            }
+        }
+    }
+    for n in 0..bands {
+        starts[n + 1] += starts[n];
+    }
+    let mut order = vec![0u32; starts[bands] as usize];
+    let mut next = starts.clone();
+    for (k, c) in points.iter().enumerate() {
+        for n in bands_of(c.rows()) {
+            order[next[n] as usize] = k as u32;
+            next[n] += 1;
+        }
+    }
+    Chunk {
+        points,
+        starts,
+        order,
+    }
+}
+
+/// The parallel plan of the module contract with bins of `P`.
+fn draw_binned<B: Blender, P: Binned>(
+    ctx: &DrawContext,
+    b: &B,
+    target: &mut RenderTarget,
+    count: u32,
+    threads: usize,
+) {
+    let width = target.width as usize;
     let bands = (target.height as usize).div_ceil(BAND_ROWS);
     let chunk = (count as usize).div_ceil(threads * 4).max(1024) as u32;
-    let starts: Vec<u32> = (0..count).step_by(chunk as usize).collect();
-    // bins[c][band]: the indices of chunk c's points that touch `band`, ascending.
-    let bins: Vec<Vec<Vec<u32>>> = starts
+    let firsts: Vec<u32> = (0..count).step_by(chunk as usize).collect();
+    let chunks: Vec<Chunk<P>> = firsts
         .par_iter()
-        .map(|&start| {
-            let mut bins = vec![Vec::new(); bands];
-            for index in start..(start + chunk).min(count) {
-                if let Some(p) = ctx.points.process(ctx.vertices, index) {
-                    let first = p.rect.y0 as usize / BAND_ROWS;
-                    let last = (p.rect.y1 as usize - 1) / BAND_ROWS;
-                    for bin in &mut bins[first..=last] {
-                        bin.push(index);
-                    }
-                }
-            }
-            bins
-        })
+        .map(|&first| bin(ctx, first..(first + chunk).min(count), bands))
         .collect();
     target
         .color
@@ -256,23 +458,22 @@ fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget) {
                 y0,
                 y1,
             };
-            let mut u = Vec::new();
-            for index in bins.iter().flat_map(|chunk| &chunk[n]) {
-                // `process` is pure: it gives the same point it gave when binning.
-                if let Some(p) = ctx.points.process(ctx.vertices, *index) {
-                    fill(ctx, b, &p, &mut band, &mut u);
+            let mut scratch = Scratch::default();
+            for c in &chunks {
+                for &k in &c.order[c.starts[n] as usize..c.starts[n + 1] as usize] {
+                    c.points[k as usize].fill(ctx, b, &mut band, &mut scratch);
                 }
             }
         });
 }
 
-fn fill<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band, u: &mut Vec<f32>) {
+fn fill<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band, s: &mut Scratch) {
     if ctx.pixel.is_flat() {
         fill_flat(ctx, b, p, band);
     } else {
         match ctx.shading {
-            Shading::Modulate(alpha) => fill_modulate(ctx, b, p, band, u, alpha),
-            _ => fill_sprite(ctx, b, p, band, u),
+            Shading::Modulate(alpha) => fill_modulate(ctx, b, p, band, s, alpha),
+            _ => fill_sprite(ctx, b, p, band, &mut s.u),
         }
     }
 }
@@ -309,16 +510,8 @@ fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut B
     }
     let r = p.rect;
     let planes = p.pixel_planes();
-    if planes.is_empty() && ctx.pixel.depth.is_none() {
-        // The common particle case: whole rows, blend and mask only.
-        let mask = ctx.pixel.write_mask;
-        for j in rows(p, band) {
-            let row = (j - band.y0) as usize * band.width;
-            for px in &mut band.color[row + r.x0 as usize..row + r.x1 as usize] {
-                *px = write_masked(mask, b.blend(color, *px), *px);
-            }
-        }
-        return;
+    if planes.is_empty() {
+        return fill_solid(ctx, b, r, p.z, color, band);
     }
     for j in rows(p, band) {
         let row = (j - band.y0) as usize * band.width;
@@ -326,6 +519,38 @@ fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut B
             if planes.iter().all(|pl| pl.keeps(i, j)) {
                 write_pixel(ctx, b, band, row + i as usize, p.z, color);
             }
+        }
+    }
+}
+
+/// The pixels `rect` (inside `band`) of a point of one colour `color` at depth `z` that passed
+/// the alpha test: depth test, blend and mask per pixel (SPEC 5.4 to 5.6).
+#[inline]
+fn fill_solid<B: Blender>(
+    ctx: &DrawContext,
+    b: &B,
+    r: PixelRect,
+    z: f32,
+    color: u32,
+    band: &mut Band,
+) {
+    let (y0, y1) = (r.y0.max(band.y0), r.y1.min(band.y1));
+    let (x0, x1) = (r.x0 as usize, r.x1 as usize);
+    if ctx.pixel.depth.is_none() {
+        // The common particle case: whole rows, blend and mask only.
+        let mask = ctx.pixel.write_mask;
+        for j in y0..y1 {
+            let row = (j - band.y0) as usize * band.width;
+            for px in &mut band.color[row + x0..row + x1] {
+                *px = write_masked(mask, b.blend(color, *px), *px);
+            }
+        }
+        return;
+    }
+    for j in y0..y1 {
+        let row = (j - band.y0) as usize * band.width;
+        for at in row + x0..row + x1 {
+            write_pixel(ctx, b, band, at, z, color);
         }
     }
 }
@@ -376,34 +601,108 @@ fn fill_sprite<B: Blender>(
     }
 }
 
-/// A textured sprite with [`Shading::Modulate`]: the cascade's arithmetic for that one stage.
+/// A textured sprite with [`Shading::Modulate`]: the cascade's arithmetic for that one stage,
+/// `texture * diffuse` per channel with the alpha of `alpha` (SPEC 5.1), sampled at the sprite's
+/// level of detail (SPEC 4.3, 5.2).
 fn fill_modulate<B: Blender>(
     ctx: &DrawContext,
     b: &B,
     p: &ScreenPoint,
     band: &mut Band,
-    u: &mut Vec<f32>,
+    s: &mut Scratch,
     alpha: ModulateAlpha,
 ) {
-    let Some(sampler) = sprite_samplers(ctx, p, u)[0] else {
-        return fill_sprite(ctx, b, p, band, u);
+    let Some(t) = &ctx.textures[0] else {
+        return fill_sprite(ctx, b, p, band, &mut s.u);
     };
-    let d = unpack(p.diffuse);
+    let lod = sprite_lod(t.texture.width(), t.texture.height(), p.size);
+    let sampler = t.texture.at_lod(&t.sampler, lod);
+    if sampler.is_linear() {
+        fill_modulate_with::<B, true>(ctx, b, p, band, &mut s.cols, alpha, &sampler);
+    } else {
+        fill_modulate_with::<B, false>(ctx, b, p, band, &mut s.cols, alpha, &sampler);
+    }
+}
+
+/// [`fill_modulate`] for linear (`LINEAR`) or point filtering: texel indices and weights per
+/// column and per row, then per pixel two or eight texel reads where they are inside the level.
+fn fill_modulate_with<B: Blender, const LINEAR: bool>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &ScreenPoint,
+    band: &mut Band,
+    cols: &mut Vec<Column>,
+    alpha: ModulateAlpha,
+    sampler: &LodSampler,
+) {
+    let level = sampler.level();
+    let single = sampler.mip_blend().is_none();
+    let (w, h) = (level.width, level.height);
+    // Texel index k is read directly when k (and k + 1 when filtering) is inside the level.
+    let reach = if LINEAR { 1 } else { 0 };
+    let inside = |k: i64, n: u32| single && k >= 0 && k + reach < i64::from(n);
+    cols.clear();
+    cols.extend((p.rect.x0..p.rect.x1).map(|i| {
+        let u = sprite_coord(i, p.left, p.size);
+        let (k, fx) = if LINEAR {
+            linear_texel(u, w)
+        } else {
+            (point_texel(u, w), 0.0)
+        };
+        let k = if inside(k, w) { k as i32 } else { -1 };
+        Column { u, k, fx }
+    }));
+    let d = F4::from_argb(p.diffuse);
+    // The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
+    // passes through unchanged.
+    let m = match alpha {
+        ModulateAlpha::Texture => d.with_alpha_of(F4::splat(1.0)),
+        ModulateAlpha::Modulate | ModulateAlpha::Diffuse => d,
+    };
+    let diffuse_alpha = alpha == ModulateAlpha::Diffuse;
     let planes = p.pixel_planes();
+    let width = w as usize;
     for j in rows(p, band) {
         let v = sprite_coord(j, p.top, p.size);
+        let (l, fy) = if LINEAR {
+            linear_texel(v, h)
+        } else {
+            (point_texel(v, h), 0.0)
+        };
+        let texels: &[u32] = if inside(l, h) {
+            &level.texels[l as usize * width..]
+        } else {
+            &[]
+        };
+        let fy = F4::splat(fy);
         let row = (j - band.y0) as usize * band.width;
-        for (i, &u) in (p.rect.x0..p.rect.x1).zip(u.iter()) {
+        for (i, c) in (p.rect.x0..p.rect.x1).zip(cols.iter()) {
             if !planes.iter().all(|pl| pl.keeps(i, j)) {
                 continue;
             }
-            let t = sampler.sample(u, v);
-            let a = match alpha {
-                ModulateAlpha::Texture => t[3],
-                ModulateAlpha::Modulate => t[3] * d[3],
-                ModulateAlpha::Diffuse => d[3],
+            let texel = if c.k >= 0 && !texels.is_empty() {
+                let at = c.k as usize;
+                if LINEAR {
+                    let fx = F4::splat(c.fx);
+                    let top =
+                        F4::lerp(F4::from_argb(texels[at]), F4::from_argb(texels[at + 1]), fx);
+                    let bottom = F4::lerp(
+                        F4::from_argb(texels[at + width]),
+                        F4::from_argb(texels[at + width + 1]),
+                        fx,
+                    );
+                    F4::lerp(top, bottom, fy)
+                } else {
+                    F4::from_argb(texels[at])
+                }
+            } else {
+                F4::from_rgba(sampler.sample(c.u, v))
             };
-            let color = pack([t[0] * d[0], t[1] * d[1], t[2] * d[2], a]);
+            let mut shaded = texel.mul(m);
+            if diffuse_alpha {
+                shaded = shaded.with_alpha_of(d);
+            }
+            let color = shaded.to_argb();
             if alpha_test_passes(ctx.pixel.alpha_test, color) {
                 write_pixel(ctx, b, band, row + i as usize, p.z, color);
             }
@@ -436,6 +735,132 @@ fn write_pixel<B: Blender>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use pointillist_core::device::DeviceDesc;
+    use pointillist_core::states::{
+        Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureStageState,
+    };
+    use std::sync::Arc;
+
+    /// The general path: the core cascade per pixel and the core blender, one point after
+    /// another on the calling thread.
+    fn draw_general(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertices: &[u8]) {
+        let mut ctx = context(state, fvf, vertices);
+        ctx.shading = Shading::General;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        pool.install(|| match ctx.pixel.blend {
+            None => draw_with(&ctx, &Replace, target),
+            Some(b) => draw_with(&ctx, &General(b), target),
+        });
+    }
+
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 16) as u32
+        }
+        fn pick<T: Copy>(&mut self, from: &[T]) -> T {
+            from[self.next() as usize % from.len()]
+        }
+        fn range(&mut self, lo: f32, hi: f32) -> f32 {
+            lo + (hi - lo) * (self.next() % 65536) as f32 / 65536.0
+        }
+    }
+
+    /// Random textured-sprite scenes through the fast paths (span sampler, [`F4`] arithmetic,
+    /// blend fast paths, threads) and through the general path give the same pixels.
+    #[test]
+    fn fast_paths_match_the_general_path_on_random_sprites() {
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        for scene in 0..24 {
+            let (w, h) = (96, 80);
+            let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+            let (tw, th) = rng.pick(&[(8, 8), (5, 3), (16, 4), (1, 1), (64, 64)]);
+            let texels = (0..tw * th).map(|_| rng.next()).collect();
+            let texture = Arc::new(Texture::from_argb(tw, th, texels).unwrap());
+            device.set_texture(0, Some(texture)).unwrap();
+            let set = |d: &mut crate::CpuDevice, s: SamplerState, v: u32| {
+                d.set_sampler_state(0, s, v).unwrap()
+            };
+            use TextureFilter::{Linear, None as NoFilter, Point};
+            let filter = rng.pick(&[Point, Linear]);
+            set(&mut device, SamplerState::MAGFILTER, filter as u32);
+            set(&mut device, SamplerState::MINFILTER, filter as u32);
+            let mip = rng.pick(&[NoFilter, Point, Linear]);
+            set(&mut device, SamplerState::MIPFILTER, mip as u32);
+            use TextureAddress::{Border, Clamp, Mirror, Wrap};
+            let address = rng.pick(&[Wrap, Clamp, Border, Mirror]);
+            set(&mut device, SamplerState::ADDRESSU, address as u32);
+            set(&mut device, SamplerState::ADDRESSV, address as u32);
+            set(&mut device, SamplerState::BORDERCOLOR, rng.next());
+            // Texture alpha, modulated alpha, diffuse alpha (twice).
+            let alpha_op = rng.pick(&[
+                TextureOp::SelectArg1,
+                TextureOp::Modulate,
+                TextureOp::SelectArg2,
+                TextureOp::Disable,
+            ]);
+            device
+                .set_texture_stage_state(0, TextureStageState::ALPHAOP, alpha_op)
+                .unwrap();
+            device.set_render_state(RenderState::POINTSPRITEENABLE, true);
+            let blend = rng.pick(&[
+                None,
+                Some((Blend::One, Blend::One)),
+                Some((Blend::SrcAlpha, Blend::InvSrcAlpha)),
+                Some((Blend::DestColor, Blend::InvSrcColor)),
+            ]);
+            device.set_render_state(RenderState::ALPHABLENDENABLE, blend.is_some());
+            if let Some((src, dst)) = blend {
+                device.set_render_state(RenderState::SRCBLEND, src);
+                device.set_render_state(RenderState::DESTBLEND, dst);
+            }
+            let depth = scene % 3 == 0;
+            device.set_render_state(RenderState::ZENABLE, depth);
+            if scene % 4 == 1 {
+                device.set_render_state(RenderState::ALPHATESTENABLE, true);
+                device.set_render_state(RenderState::ALPHAREF, rng.next() % 256);
+                device.set_render_state(RenderState::ALPHAFUNC, Cmp::Greater);
+            }
+            let count = if scene % 2 == 0 { 3000 } else { 200 };
+            let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+            let mut vertices = Vec::new();
+            for _ in 0..count {
+                let words = [
+                    rng.range(-20.0, 116.0).to_bits(),
+                    rng.range(-20.0, 100.0).to_bits(),
+                    rng.range(0.0, 1.0).to_bits(),
+                    1.0f32.to_bits(),
+                    rng.range(0.5, 40.0).to_bits(),
+                    rng.next(),
+                ];
+                vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+            }
+            let state = device.state();
+            let clear = |rng: &mut Rng| {
+                let mut t = RenderTarget::new(w, h, 0, 1.0);
+                t.color.iter_mut().for_each(|c| *c = rng.next());
+                t
+            };
+            let mut fast = clear(&mut rng);
+            let mut general = fast.clone();
+            draw(&mut fast, state, fvf, &vertices);
+            draw_general(&mut general, state, fvf, &vertices);
+            let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
+            for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
+                assert_eq!(
+                    a, b,
+                    "scene {scene} {setup:?}: pixel {k}: {a:08x} vs {b:08x}"
+                );
+            }
+            assert_eq!(fast.depth, general.depth, "scene {scene}");
+        }
+    }
 
     fn setup(src: Blend, dst: Blend) -> BlendSetup {
         BlendSetup {
