@@ -1,5 +1,6 @@
 //! Four colour channels at once: [`F4`], four f32 lanes in D3DCOLOR byte order (blue, green, red,
-//! alpha), for the pixel loop's float arithmetic (SPEC 1, 5.1, 5.2, 5.5).
+//! alpha), for the pixel loop's float arithmetic (SPEC 1, 5.1, 5.2, 5.5); and [`add_row`], the
+//! ONE/ONE blend of one colour into a row of pixels, four pixels at a time.
 //!
 //! Contract: every operation is, lane by lane, the exact IEEE f32 operation the scalar reference
 //! performs on that channel (`color::unpack`, `color::pack`, the sampler's lerp, the blend
@@ -86,6 +87,13 @@ impl F4 {
     }
 }
 
+/// SPEC 5.5 and 5.6 for ONE, ONE, ADD: `row[i] = (sat(row[i] + color) & mask) | (row[i] &
+/// !mask)`, the saturating byte add the float formula rounds to (see the additive blender's test).
+#[inline(always)]
+pub(crate) fn add_row(row: &mut [u32], color: u32, mask: u32) {
+    imp::add_row(row, color, mask)
+}
+
 /// The scalar twin: plain per-lane arithmetic.
 #[cfg(any(test, not(all(target_arch = "x86_64", target_feature = "sse2"))))]
 mod scalar {
@@ -136,6 +144,16 @@ mod scalar {
     #[inline(always)]
     pub(crate) fn with_alpha_of(a: V, o: V) -> V {
         [a[0], a[1], a[2], o[3]]
+    }
+
+    #[inline(always)]
+    pub(crate) fn add_row(row: &mut [u32], color: u32, mask: u32) {
+        let c = color.to_le_bytes();
+        for px in row {
+            let d = px.to_le_bytes();
+            let sum = u32::from_le_bytes(std::array::from_fn(|k| d[k].saturating_add(c[k])));
+            *px = (sum & mask) | (*px & !mask);
+        }
     }
 }
 
@@ -223,6 +241,32 @@ mod sse2 {
         }
     }
 
+    #[inline(always)]
+    pub(crate) fn add_row(row: &mut [u32], color: u32, mask: u32) {
+        let mut quads = row.chunks_exact_mut(4);
+        // SAFETY: as in `from_argb`; each load and store touches exactly the 16 bytes of one
+        // `quad`, four `u32` of the row, which `loadu`/`storeu` allow at any alignment.
+        unsafe {
+            let c = _mm_set1_epi32(color as i32);
+            let m = _mm_set1_epi32(mask as i32);
+            for quad in &mut quads {
+                let at = quad.as_mut_ptr().cast::<__m128i>();
+                let old = _mm_loadu_si128(at);
+                let sum = _mm_adds_epu8(old, c);
+                let new = _mm_or_si128(_mm_and_si128(sum, m), _mm_andnot_si128(m, old));
+                _mm_storeu_si128(at, new);
+            }
+        }
+        for px in quads.into_remainder() {
+            // SAFETY: as in `from_argb`; registers only.
+            let sum = unsafe {
+                let c = _mm_cvtsi32_si128(color as i32);
+                _mm_cvtsi128_si32(_mm_adds_epu8(_mm_cvtsi32_si128(*px as i32), c)) as u32
+            };
+            *px = (sum & mask) | (*px & !mask);
+        }
+    }
+
     /// The lanes, for the tests.
     #[cfg(test)]
     pub(crate) fn lanes(v: V) -> [f32; 4] {
@@ -284,6 +328,36 @@ mod tests {
             let ours = F4::from_rgba(v).to_argb();
             assert_eq!(ours, scalar::to_argb([v[2], v[1], v[0], v[3]]), "{v:?}");
             assert_eq!(ours, pack(v), "{v:?}");
+        }
+    }
+
+    #[test]
+    fn spec_5_5_add_row_matches_the_scalar_twin_and_the_reference_blend() {
+        use pointillist_core::pixel::{BlendSetup, blend, write_masked};
+        use pointillist_core::states::{Blend, BlendOp};
+        let setup = BlendSetup {
+            src: Blend::One,
+            dst: Blend::One,
+            op: BlendOp::Add,
+            src_alpha: Blend::One,
+            dst_alpha: Blend::One,
+            op_alpha: BlendOp::Add,
+            factor: [1.0; 4],
+        };
+        let mut rng = Rng(0x5555_AAAA_1234_0001);
+        for _ in 0..20_000 {
+            let len = (rng.next() % 19) as usize;
+            let row: Vec<u32> = (0..len).map(|_| rng.next()).collect();
+            let color = rng.next();
+            let mask = [0xFFFF_FFFF, 0x00FF_FFFF, 0xFF00_FF00, rng.next()][rng.next() as usize % 4];
+            let (mut ours, mut twin) = (row.clone(), row.clone());
+            add_row(&mut ours, color, mask);
+            scalar::add_row(&mut twin, color, mask);
+            assert_eq!(ours, twin, "{color:08x} {mask:08x}");
+            for (k, &old) in row.iter().enumerate() {
+                let reference = write_masked(mask, blend(&setup, color, old), old);
+                assert_eq!(ours[k], reference, "{color:08x} {old:08x} {mask:08x}");
+            }
         }
     }
 
