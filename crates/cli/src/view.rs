@@ -351,22 +351,32 @@ fn run_on<B: Backend>(
 }
 
 /// Runs `pointillist view`: on the GPU backend when an adapter is found (or `--backend gpu`
-/// demands it), else on the CPU backend.
+/// demands it), else on the CPU backend. Without `--backend`, a GPU that cannot be opened or
+/// cannot hold the scene's target (no adapter, out of memory, a target beyond its limits) is a
+/// one-line warning and the CPU backend draws instead.
 pub fn run(args: &ViewArgs) -> Result<(), String> {
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
     let title = format!("pointillist - {}", args.scene.display());
-    let (backend, name) = match args.backend {
-        Some(BackendKind::Cpu) => (backend::create(BackendKind::Cpu)?, "cpu"),
-        Some(BackendKind::Gpu) => (backend::create(BackendKind::Gpu)?, "gpu"),
-        None => match backend::create(BackendKind::Gpu) {
-            Ok(b) => (b, "gpu"),
+    let cannot = |e: pointillist_core::device::DeviceError| {
+        format!("{}: cannot create the device: {e}", args.scene.display())
+    };
+    let cpu =
+        || Device::new(backend::create(BackendKind::Cpu)?, scene.device_desc()).map_err(cannot);
+    let (device, name) = match args.backend {
+        Some(BackendKind::Cpu) => (cpu()?, "cpu"),
+        Some(BackendKind::Gpu) => (
+            Device::new(backend::create(BackendKind::Gpu)?, scene.device_desc()).map_err(cannot)?,
+            "gpu",
+        ),
+        None => match backend::create(BackendKind::Gpu)
+            .and_then(|b| Device::new(b, scene.device_desc()).map_err(cannot))
+        {
+            Ok(d) => (d, "gpu"),
             Err(e) => {
-                eprintln!("note: {e}; drawing on the CPU backend");
-                (backend::create(BackendKind::Cpu)?, "cpu")
+                eprintln!("warning: {e}; drawing on the CPU backend");
+                (cpu()?, "cpu")
             }
         },
     };
-    let device = Device::new(backend, scene.device_desc())
-        .map_err(|e| format!("{}: cannot create the device: {e}", args.scene.display()))?;
     run_on(scene, title, device, name, args.frames)
 }

@@ -500,3 +500,93 @@ fn the_readme_picture_is_what_the_readme_command_renders() {
          `cargo run --release -p pointillist-cli -- render scenes/ring.toml -o docs/images/ring.png`"
     );
 }
+
+/// Every hostile scene of issue 6 (docs/RELIABILITY.md): `render` and `animate` each answer one
+/// line `error: FILE:LINE:COLUMN: KEY: ...` with exit status 1, and leave an existing output
+/// untouched and no temporary file behind.
+#[test]
+fn hostile_scenes_are_one_line_with_file_line_and_key_and_leave_outputs_untouched() {
+    let dir = TempDir::new("hostile");
+    fs::write(dir.path("ragged.bin"), [0u8; 20]).unwrap();
+    fs::write(dir.path("broken.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap();
+    let head = "format = 1\n[target]\nwidth = 8\nheight = 8\n";
+    let cases: &[(&str, &str)] = &[
+        (
+            "format = 1\n[target]\nwidth = -8\nheight = 8\n",
+            ":3:9: target.width: -8 is outside 1..=16384",
+        ),
+        (
+            "format = 1\n[target]\nwidth = 16384\nheight = 16384\n[[emitter]]\nrate = 1\n\
+             max_particles = 16777216\n",
+            ":7:17: emitter[0].max_particles: this emitter's particle storage takes 1.5 GiB, which \
+             brings the render to 4.5 GiB, above the memory budget of 4.0 GiB",
+        ),
+        (
+            "[viewport]\nx = 4\nwidth = 8\n",
+            ":7:9: viewport.width: x + width = 12 exceeds the target width 8",
+        ),
+        (
+            "[viewport]\nmin_z = 0.9\nmax_z = 0.1\n",
+            ":6:9: viewport.min_z: min_z 0.9 is greater than max_z 0.1",
+        ),
+        (
+            "[[draw]]\nfvf = \"XYZ | DIFFUSE\"\nfile = \"ragged.bin\"\n",
+            ":7:8: draw[0].file: vertex file `",
+        ),
+        (
+            "[[draw]]\nfvf = \"XYZ | COLOUR\"\nvertices = []\n",
+            ":6:7: draw[0].fvf: unknown FVF flag `COLOUR`",
+        ),
+        (
+            "[[draw]]\nfvf = 0x1002\nvertices = []\n",
+            ":6:7: draw[0].fvf: unknown FVF bits 0x1000",
+        ),
+        (
+            "[states]\nPOINTSIZ = 1.0\n",
+            ":6:1: states.POINTSIZ: unknown render state `POINTSIZ`",
+        ),
+        (
+            "[states]\nSRCBLEND = \"SOME\"\n",
+            ":6:12: states.SRCBLEND: unknown SRCBLEND value `SOME`",
+        ),
+        (
+            "[stage.8]\nCOLOROP = \"ADD\"\n",
+            ":5:8: stage.8: stage 8 is outside 0..=7",
+        ),
+        (
+            "[[clip_plane]]\nindex = 6\nplane = [0, 0, 0, 0]\n",
+            ":6:9: clip_plane[0].index: 6 is outside 0..=5",
+        ),
+        (
+            "[[texture]]\nstage = 0\nfile = \"broken.png\"\n",
+            ":7:8: texture[0].file: cannot load texture ",
+        ),
+    ];
+    let precious = b"precious".to_vec();
+    for (i, (body, expected)) in cases.iter().enumerate() {
+        let src = if body.starts_with("format") {
+            body.to_string()
+        } else {
+            format!("{head}{body}")
+        };
+        let scene = dir.write(&format!("s{i}.toml"), &src);
+        for (command, out) in [("render", "out.png"), ("animate", "out.gif")] {
+            let out = dir.path(out);
+            fs::write(&out, &precious).unwrap();
+            let o = pointillist(&[command, path_arg(&scene), "-o", path_arg(&out)]);
+            let line = one_error_line(&o);
+            assert_eq!(o.status.code(), Some(1), "{command} {src}");
+            let want = format!("error: {}{expected}", scene.display());
+            assert!(
+                line.starts_with(&want),
+                "{command}:\n{line}\nwanted\n{want}"
+            );
+            assert_eq!(fs::read(&out).unwrap(), precious, "{command} {src}");
+        }
+    }
+    assert!(
+        !dir.listing().iter().any(|n| n.contains(".tmp-")),
+        "{:?}",
+        dir.listing()
+    );
+}

@@ -288,3 +288,40 @@ fn errors_are_device_errors_not_panics() {
             .is_ok()
     );
 }
+
+/// A target larger than the adapter allows (a hostile size the device-level limit of 16384 may
+/// still let through) is a `DeviceError` naming both sizes, not a panic or a wgpu abort; a huge
+/// draw on a small target is fine.
+#[test]
+fn a_target_beyond_the_adapter_is_an_error_not_a_panic() {
+    use pointillist_core::device::{Backend, Device};
+    use pointillist_gpu::GpuBackend;
+    let Some(ctx) = gpu_context() else {
+        return;
+    };
+    let max = ctx.limits().max_texture_dimension_2d;
+    let mut backend = GpuBackend::with_context(Arc::clone(&ctx));
+    let e = backend
+        .create_target(max + 1, 1, 0, 1.0)
+        .expect_err("beyond the adapter's limit");
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "not supported by the GPU backend: render target {}x1 exceeds the adapter's {max} pixels per \
+             side",
+            max + 1
+        )
+    );
+    // The context stays usable, and an absurd point size is clamped, not a failed allocation.
+    let mut device = Device::new(GpuBackend::with_context(ctx), DeviceDesc::new(W, H)).unwrap();
+    device.set_render_state(RenderState::POINTSIZE, f32::MAX);
+    device
+        .draw_vertices(&[XyzRhwPsizeDiffuse {
+            position: [1.0, 1.0, 0.5, 1.0],
+            psize: f32::INFINITY,
+            diffuse: 0xFF00FF00,
+        }])
+        .unwrap();
+    let target = device.read_target().unwrap();
+    assert!(target.color.iter().all(|&c| c == 0xFF00FF00));
+}
