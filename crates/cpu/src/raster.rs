@@ -60,19 +60,13 @@ impl Blender for Replace {
     }
 }
 
-/// ONE, ONE, ADD: a saturating byte add, exactly what the float formula rounds to, done on all
-/// four channels at once within a u32.
+/// ONE, ONE, ADD: a saturating byte add, exactly what the float formula rounds to, on all four
+/// channels at once.
 struct Additive;
 impl Blender for Additive {
     #[inline(always)]
     fn blend(&self, src: u32, dst: u32) -> u32 {
-        const HIGH: u32 = 0x8080_8080;
-        // Add the low 7 bits of each byte, then put each byte's top bit back in.
-        let low = (src & !HIGH) + (dst & !HIGH);
-        let sum = low ^ ((src ^ dst) & HIGH);
-        // A byte carried out when both top bits were set, or one was and the low add carried.
-        let carry = ((src & dst) | ((src | dst) & !sum)) & HIGH;
-        sum | ((carry >> 7) * 0xFF)
+        crate::simd::add_pixel(src, dst)
     }
 
     #[inline(always)]

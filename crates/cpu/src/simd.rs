@@ -1,6 +1,7 @@
 //! Four colour channels at once: [`F4`], four f32 lanes in D3DCOLOR byte order (blue, green, red,
-//! alpha), for the pixel loop's float arithmetic (SPEC 1, 5.1, 5.2, 5.5); and [`add_row`], the
-//! ONE/ONE blend of one colour into a row of pixels, four pixels at a time.
+//! alpha), for the pixel loop's float arithmetic (SPEC 1, 5.1, 5.2, 5.5); and the ONE/ONE blend
+//! as a saturating byte add, of one pixel ([`add_pixel`]) or of one colour into a row of pixels,
+//! four pixels at a time ([`add_row`]).
 //!
 //! Contract: every operation is, lane by lane, the exact IEEE f32 operation the scalar reference
 //! performs on that channel (`color::unpack`, `color::pack`, the sampler's lerp, the blend
@@ -87,6 +88,13 @@ impl F4 {
     }
 }
 
+/// SPEC 5.5 for ONE, ONE, ADD: the per-channel saturating sum of `src` and `dst`, which is what
+/// the float formula rounds to (see the additive blender's test).
+#[inline(always)]
+pub(crate) fn add_pixel(src: u32, dst: u32) -> u32 {
+    imp::add_pixel(src, dst)
+}
+
 /// SPEC 5.5 and 5.6 for ONE, ONE, ADD: `row[i] = (sat(row[i] + color) & mask) | (row[i] &
 /// !mask)`, the saturating byte add the float formula rounds to (see the additive blender's test).
 #[inline(always)]
@@ -147,12 +155,15 @@ mod scalar {
     }
 
     #[inline(always)]
+    pub(crate) fn add_pixel(src: u32, dst: u32) -> u32 {
+        let (s, d) = (src.to_le_bytes(), dst.to_le_bytes());
+        u32::from_le_bytes(std::array::from_fn(|k| d[k].saturating_add(s[k])))
+    }
+
+    #[inline(always)]
     pub(crate) fn add_row(row: &mut [u32], color: u32, mask: u32) {
-        let c = color.to_le_bytes();
         for px in row {
-            let d = px.to_le_bytes();
-            let sum = u32::from_le_bytes(std::array::from_fn(|k| d[k].saturating_add(c[k])));
-            *px = (sum & mask) | (*px & !mask);
+            *px = (add_pixel(color, *px) & mask) | (*px & !mask);
         }
     }
 }
@@ -258,12 +269,16 @@ mod sse2 {
             }
         }
         for px in quads.into_remainder() {
-            // SAFETY: as in `from_argb`; registers only.
-            let sum = unsafe {
-                let c = _mm_cvtsi32_si128(color as i32);
-                _mm_cvtsi128_si32(_mm_adds_epu8(_mm_cvtsi32_si128(*px as i32), c)) as u32
-            };
-            *px = (sum & mask) | (*px & !mask);
+            *px = (add_pixel(color, *px) & mask) | (*px & !mask);
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn add_pixel(src: u32, dst: u32) -> u32 {
+        // SAFETY: as in `from_argb`; registers only.
+        unsafe {
+            let sum = _mm_adds_epu8(_mm_cvtsi32_si128(src as i32), _mm_cvtsi32_si128(dst as i32));
+            _mm_cvtsi128_si32(sum) as u32
         }
     }
 
@@ -354,6 +369,9 @@ mod tests {
             add_row(&mut ours, color, mask);
             scalar::add_row(&mut twin, color, mask);
             assert_eq!(ours, twin, "{color:08x} {mask:08x}");
+            for &old in &row {
+                assert_eq!(add_pixel(color, old), scalar::add_pixel(color, old));
+            }
             for (k, &old) in row.iter().enumerate() {
                 let reference = write_masked(mask, blend(&setup, color, old), old);
                 assert_eq!(ours[k], reference, "{color:08x} {old:08x} {mask:08x}");
