@@ -271,8 +271,23 @@ fn ctrl_c_leaves_no_partial_file() {
     );
 }
 
+/// The first `count` frames of the PNG or APNG at `path`, as RGBA8 bytes.
+fn png_frames(path: &Path, count: usize) -> Vec<Vec<u8>> {
+    let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    (0..count)
+        .map(|_| {
+            reader.next_frame(&mut buf).unwrap();
+            buf.clone()
+        })
+        .collect()
+}
+
+/// Every preset scene renders one frame and animates (three frames to an APNG) from the CLI,
+/// without warnings, and frame 1 of the animation is `render --frame 1`, byte for byte.
 #[test]
-fn every_particle_scene_renders() {
+fn every_preset_renders_and_animates() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
     let dir = TempDir::new("scenes");
     for name in [
@@ -288,6 +303,21 @@ fn every_particle_scene_renders() {
         let o = pointillist(&["render", s(&scene), "-o", s(&out), "--frame", "1"]);
         assert!(o.status.success(), "{name}: {}", stderr(&o));
         assert!(stderr(&o).is_empty(), "{name}: {}", stderr(&o));
+        let anim = dir.path(&format!("{name}.apng"));
+        let o = pointillist(&["animate", s(&scene), "-o", s(&anim), "--frames", "3"]);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let frames = png_frames(&anim, 3);
+        assert_ne!(frames[0], frames[2], "{name}: the particles move");
+        let single = &png_frames(&out, 1)[0];
+        let differing = single
+            .iter()
+            .zip(&frames[1])
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(
+            differing, 0,
+            "{name}: bytes of frame 1 that differ from render --frame 1"
+        );
     }
 }
 

@@ -385,6 +385,15 @@ impl<B: Backend> Device<B> {
         })
     }
 
+    /// Restores every state (render, stage and sampler states, textures, transforms, viewport,
+    /// clip planes) to its value at device creation; the target keeps its contents. What a
+    /// new device would be, without a new target: a scene replayed on a device that drew
+    /// before (the next frame of an animation) starts from the same state as on a new one.
+    pub fn reset_state(&mut self) {
+        let s = &self.state;
+        self.state = DeviceState::new(s.api, s.caps, s.target_width, s.target_height);
+    }
+
     /// GetDeviceCaps: the caps the device reports.
     pub fn caps(&self) -> &Caps {
         &self.state.caps
@@ -731,6 +740,28 @@ mod tests {
 
     fn device(width: u32, height: u32) -> Result<Device<Counting>, DeviceError> {
         Device::new(Counting::default(), DeviceDesc::new(width, height))
+    }
+
+    #[test]
+    fn reset_state_restores_the_creation_state() {
+        let mut d = device(64, 32).unwrap();
+        d.set_render_state(RenderState::POINTSIZE, 9.0f32);
+        d.set_render_state(RenderState::ALPHABLENDENABLE, true);
+        d.set_transform(
+            TransformType::View,
+            Mat4::look_at_lh([0.0, 0.0, -5.0], [0.0; 3], [0.0, 1.0, 0.0]),
+        );
+        d.set_viewport(Viewport {
+            x: 8,
+            ..Viewport::full(32, 32)
+        })
+        .unwrap();
+        d.reset_state();
+        let fresh = device(64, 32).unwrap();
+        assert_eq!(d.state().render_states, fresh.state().render_states);
+        assert_eq!(d.state().view, fresh.state().view);
+        assert_eq!(d.state().viewport, fresh.state().viewport);
+        assert_eq!(d.state().caps, fresh.state().caps);
     }
 
     #[test]

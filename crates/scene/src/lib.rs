@@ -326,7 +326,9 @@ impl Scene {
     }
 
     /// Issues every step on `device`, in order: a clear, the top-level state, then each draw's
-    /// changes and the draw. An error the device reports names the step's file position and key.
+    /// changes and the draw, starting from the device's creation state
+    /// ([`Device::reset_state`]), so that states a previous frame or emitter left behind do not
+    /// leak in. An error the device reports names the step's file position and key.
     /// Particles are not drawn: see [`Scene::render_frame`].
     pub fn replay<B: Backend>(&self, device: &mut Device<B>) -> Result<(), SceneError> {
         self.replay_with_view(device, None)
@@ -340,6 +342,7 @@ impl Scene {
         device: &mut Device<B>,
         view: Option<Mat4>,
     ) -> Result<(), SceneError> {
+        device.reset_state();
         if let Some(m) = view {
             device.set_transform(TransformType::View, m);
         }
