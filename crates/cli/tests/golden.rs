@@ -547,3 +547,55 @@ fn generated_assets_are_up_to_date() {
         }
     }
 }
+
+/// `pointillist render --backend gpu` renders every scene, and its image is within 1/255 per
+/// channel of the golden (the harness above compares the backends themselves exactly where the
+/// tolerance table asks it to; this checks the command a user runs). Without an adapter the
+/// command must fail in one line naming the backend; `POINTILLIST_REQUIRE_GPU=1` makes that a
+/// failure of the test.
+#[test]
+fn every_scene_renders_with_backend_gpu() {
+    let out_dir = failures_dir().join("backend-gpu");
+    fs::create_dir_all(&out_dir).expect("output folder");
+    let scenes = scene_files();
+    assert!(scenes.len() >= MIN_SCENES);
+    for scene in &scenes {
+        let name = scene.file_stem().and_then(|s| s.to_str()).expect("name");
+        let out = out_dir.join(format!("{name}.png"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_pointillist"))
+            .args(["render", scene.to_str().expect("UTF-8 path"), "-o"])
+            .arg(&out)
+            .args(["--backend", "gpu"])
+            .output()
+            .expect("run pointillist");
+        if !o.status.success() {
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(err.starts_with("error: --backend gpu: "), "{name}: {err}");
+            assert!(
+                std::env::var("POINTILLIST_REQUIRE_GPU").map_or(true, |v| v != "1"),
+                "POINTILLIST_REQUIRE_GPU=1 but {err}"
+            );
+            eprintln!("no GPU adapter, skipped: {err}");
+            return;
+        }
+        let gpu = read_png(&out).expect("the GPU image");
+        let golden = read_png(&golden_dir().join(format!("{name}.png"))).expect("golden");
+        assert_eq!(
+            (gpu.width, gpu.height),
+            (golden.width, golden.height),
+            "{name}"
+        );
+        let worst = gpu
+            .rgba
+            .iter()
+            .zip(&golden.rgba)
+            .map(|(a, b)| a.abs_diff(*b))
+            .max()
+            .unwrap_or(0);
+        assert!(
+            worst <= 1,
+            "{name}: a channel differs by {worst}/255 from the golden"
+        );
+        fs::remove_file(&out).expect("remove the image");
+    }
+}
