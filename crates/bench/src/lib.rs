@@ -27,10 +27,30 @@ pub struct Timing {
 impl Timing {
     /// The median frame time.
     pub fn median(&self) -> Duration {
-        let mut f = self.frames.clone();
-        f.sort();
-        f.get(f.len() / 2).copied().unwrap_or_default()
+        median(&self.frames)
     }
+}
+
+/// The median of `times`; zero when there are none.
+pub fn median(times: &[Duration]) -> Duration {
+    let mut t = times.to_vec();
+    t.sort();
+    t.get(t.len() / 2).copied().unwrap_or_default()
+}
+
+/// Runs `frame` once to warm up, then `frames` times, returning each timed run's wall time.
+pub fn time_frames<E>(
+    frames: usize,
+    mut frame: impl FnMut() -> Result<(), E>,
+) -> Result<Vec<Duration>, E> {
+    frame()?;
+    (0..frames)
+        .map(|_| {
+            let start = Instant::now();
+            frame()?;
+            Ok(start.elapsed())
+        })
+        .collect()
 }
 
 /// Times `frames` frames of `w` (clear + draw + finish) on pointillist's CPU backend, after one
@@ -38,18 +58,13 @@ impl Timing {
 pub fn time_pointillist(w: &Workload, frames: usize) -> Result<Timing, DeviceError> {
     let mut device = pointillist_cpu::device(w.device_desc())?;
     w.configure(&mut device)?;
-    let mut times = Vec::with_capacity(frames);
-    for frame in 0..=frames {
-        let start = Instant::now();
+    let frames = time_frames(frames, || {
         device.clear(w.clear_color, 1.0)?;
-        device.draw_point_list(w.fvf, &w.vertices)?;
-        if frame > 0 {
-            times.push(start.elapsed());
-        }
-    }
+        device.draw_point_list(w.fvf, &w.vertices)
+    })?;
     Ok(Timing {
         renderer: "pointillist cpu".into(),
-        frames: times,
+        frames,
     })
 }
 

@@ -6,13 +6,13 @@
 //! before each frame's clock stops. Vertices are uploaded once, in their FVF layout.
 #![allow(unsafe_code)] // OpenGL and EGL are C APIs
 
-use std::time::Instant;
+use std::convert::Infallible;
 
 use glow::HasContext;
 use khronos_egl as egl;
 
-use crate::Timing;
 use crate::workloads::{Kind, Workload};
+use crate::{Timing, time_frames};
 
 /// EGL_PLATFORM_SURFACELESS_MESA.
 const PLATFORM_SURFACELESS_MESA: egl::Enum = 0x31DD;
@@ -98,34 +98,26 @@ impl Peer {
         unsafe {
             let fbo = gl.create_framebuffer()?;
             gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
-            let color = gl.create_renderbuffer()?;
-            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(color));
-            gl.renderbuffer_storage(
-                glow::RENDERBUFFER,
-                glow::RGBA8,
-                w.width as i32,
-                w.height as i32,
-            );
-            gl.framebuffer_renderbuffer(
-                glow::FRAMEBUFFER,
-                glow::COLOR_ATTACHMENT0,
-                glow::RENDERBUFFER,
-                Some(color),
-            );
-            let depth = gl.create_renderbuffer()?;
-            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth));
-            gl.renderbuffer_storage(
-                glow::RENDERBUFFER,
-                glow::DEPTH_COMPONENT32F,
-                w.width as i32,
-                w.height as i32,
-            );
-            gl.framebuffer_renderbuffer(
-                glow::FRAMEBUFFER,
-                glow::DEPTH_ATTACHMENT,
-                glow::RENDERBUFFER,
-                Some(depth),
-            );
+            // A renderbuffer of `format` the size of the target, attached at `attachment`.
+            let attach = |format: u32, attachment: u32| -> Result<glow::Renderbuffer, String> {
+                let buffer = gl.create_renderbuffer()?;
+                gl.bind_renderbuffer(glow::RENDERBUFFER, Some(buffer));
+                gl.renderbuffer_storage(
+                    glow::RENDERBUFFER,
+                    format,
+                    w.width as i32,
+                    w.height as i32,
+                );
+                gl.framebuffer_renderbuffer(
+                    glow::FRAMEBUFFER,
+                    attachment,
+                    glow::RENDERBUFFER,
+                    Some(buffer),
+                );
+                Ok(buffer)
+            };
+            let color = attach(glow::RGBA8, glow::COLOR_ATTACHMENT0)?;
+            let depth = attach(glow::DEPTH_COMPONENT32F, glow::DEPTH_ATTACHMENT)?;
             if gl.check_framebuffer_status(glow::FRAMEBUFFER) != glow::FRAMEBUFFER_COMPLETE {
                 return Err("incomplete offscreen framebuffer".into());
             }
@@ -213,16 +205,12 @@ impl Peer {
             gl.clear_color(r, g, b, a);
             gl.clear_depth_f32(1.0);
 
-            let mut times = Vec::with_capacity(frames);
-            for frame in 0..=frames {
-                let start = Instant::now();
+            let Ok(times) = time_frames(frames, || -> Result<(), Infallible> {
                 gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
                 gl.draw_arrays(glow::POINTS, 0, w.points as i32);
                 gl.finish();
-                if frame > 0 {
-                    times.push(start.elapsed());
-                }
-            }
+                Ok(())
+            });
             let error = gl.get_error();
             gl.delete_vertex_array(vao);
             gl.delete_buffer(vbo);

@@ -1,10 +1,10 @@
 //! The naive single-thread splat the performance issue compares against: W1 drawn with the
 //! simplest correct loop (SPEC 4.1 coverage, saturating add), no pipeline.
 
-use std::time::{Duration, Instant};
+use std::convert::Infallible;
 
-use crate::Timing;
 use crate::workloads::{Kind, Workload};
+use crate::{Timing, time_frames};
 use pointillist_core::fvf::{read_f32, read_u32};
 
 /// Times `frames` frames of W1 with the naive loop; `None` for other workloads.
@@ -16,9 +16,7 @@ pub fn time_naive(w: &Workload, frames: usize) -> Option<Timing> {
     let mut target = vec![0u32; (width * height) as usize];
     let stride = w.fvf.stride();
     let half = w.point_size / 2.0;
-    let mut times: Vec<Duration> = Vec::with_capacity(frames);
-    for frame in 0..=frames {
-        let start = Instant::now();
+    let Ok(times) = time_frames(frames, || -> Result<(), Infallible> {
         target.fill(w.clear_color);
         for v in w.vertices.chunks_exact(stride) {
             let (x, y, c) = (read_f32(v, 0), read_f32(v, 4), read_u32(v, 16));
@@ -39,10 +37,8 @@ pub fn time_naive(w: &Workload, frames: usize) -> Option<Timing> {
             }
         }
         std::hint::black_box(&target);
-        if frame > 0 {
-            times.push(start.elapsed());
-        }
-    }
+        Ok(())
+    });
     Some(Timing {
         renderer: "naive loop".into(),
         frames: times,

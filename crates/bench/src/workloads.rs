@@ -124,7 +124,8 @@ fn tile_texture() -> Arc<Texture> {
     Arc::new(Texture::from_argb(16, 16, texels).expect("16x16 is a valid texture"))
 }
 
-fn push(out: &mut Vec<u8>, words: &[u32]) {
+/// Appends `words` as little-endian bytes.
+fn push(out: &mut Vec<u8>, words: impl IntoIterator<Item = u32>) {
     for w in words {
         out.extend_from_slice(&w.to_le_bytes());
     }
@@ -144,67 +145,36 @@ impl Workload {
             Kind::W4 => Fvf(Fvf::XYZ.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0),
         };
         let mut vertices = Vec::with_capacity(points * fvf.stride());
+        let (w, h) = (width as f32, height as f32);
         for _ in 0..points {
             let color = rng.next_u64() as u32;
+            // Position: pre-transformed (x, y, z = 0.5, rhw = 1) on screen, or world space for W4.
             match kind {
-                Kind::W1 => {
-                    let (x, y) = (rng.range(0.0, 1024.0), rng.range(0.0, 768.0));
-                    let c = 0xFF00_0000 | (color & 0x003F_3F3F);
-                    push(
-                        &mut vertices,
-                        &[
-                            x.to_bits(),
-                            y.to_bits(),
-                            0.5f32.to_bits(),
-                            1.0f32.to_bits(),
-                            c,
-                        ],
-                    );
-                }
-                Kind::W2 => {
-                    let (x, y) = (rng.range(0.0, 1024.0), rng.range(0.0, 768.0));
-                    let s = rng.range(4.0, 8.0);
-                    let c = 0xFF00_0000 | (color & 0x003F_3F3F);
-                    push(
-                        &mut vertices,
-                        &[
-                            x.to_bits(),
-                            y.to_bits(),
-                            0.5f32.to_bits(),
-                            1.0f32.to_bits(),
-                            s.to_bits(),
-                            c,
-                        ],
-                    );
-                }
-                Kind::W3 => {
-                    let (x, y) = (rng.range(0.0, 1920.0), rng.range(0.0, 1080.0));
-                    let c = 0x8000_0000 | (color & 0x00FF_FFFF);
-                    push(
-                        &mut vertices,
-                        &[
-                            x.to_bits(),
-                            y.to_bits(),
-                            0.5f32.to_bits(),
-                            1.0f32.to_bits(),
-                            c,
-                        ],
-                    );
-                }
                 Kind::W4 => {
-                    let (x, y, z) = (
+                    let xyz = [
                         rng.range(-40.0, 40.0),
                         rng.range(-22.0, 22.0),
                         rng.range(2.0, 60.0),
-                    );
-                    let s = rng.range(0.02, 0.05);
-                    let c = 0xC0E0_E8FF;
-                    push(
-                        &mut vertices,
-                        &[x.to_bits(), y.to_bits(), z.to_bits(), s.to_bits(), c],
-                    );
+                    ];
+                    push(&mut vertices, xyz.map(f32::to_bits));
+                }
+                Kind::W1 | Kind::W2 | Kind::W3 => {
+                    let xyzrhw = [rng.range(0.0, w), rng.range(0.0, h), 0.5, 1.0];
+                    push(&mut vertices, xyzrhw.map(f32::to_bits));
                 }
             }
+            let size = match kind {
+                Kind::W2 => Some(rng.range(4.0, 8.0)),
+                Kind::W4 => Some(rng.range(0.02, 0.05)),
+                Kind::W1 | Kind::W3 => None,
+            };
+            push(&mut vertices, size.map(f32::to_bits));
+            let diffuse = match kind {
+                Kind::W1 | Kind::W2 => 0xFF00_0000 | (color & 0x003F_3F3F),
+                Kind::W3 => 0x8000_0000 | (color & 0x00FF_FFFF),
+                Kind::W4 => 0xC0E0_E8FF,
+            };
+            push(&mut vertices, [diffuse]);
         }
         Workload {
             kind,

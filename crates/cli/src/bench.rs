@@ -2,14 +2,16 @@
 //! llvmpipe and a naive loop beside them in the same run, and the particle snow storm
 //! (docs/PERFORMANCE.md quotes its output).
 
+use std::convert::Infallible;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use clap::Args;
 use pointillist_bench::workloads::{Kind, Workload};
-use pointillist_bench::{BenchOptions, Timing, ms, run as run_bench, time_pointillist};
+use pointillist_bench::{
+    BenchOptions, Timing, median, ms, run as run_bench, time_frames, time_pointillist,
+};
 use pointillist_core::device::{Backend, Device, DeviceDesc, TransformType};
-use pointillist_core::math::Mat4;
 use pointillist_gpu::{ContextOptions, GpuBackend, GpuContext};
 use pointillist_particles::{DrawBuffers, ParticleSystem, presets};
 
@@ -156,42 +158,23 @@ fn time_gpu(ctx: &Arc<GpuContext>, w: &Workload, frames: usize) -> Result<Timing
     })
 }
 
-/// Runs `frame` once to warm up, then `frames` times, returning each timed run's wall time.
-fn time_frames(
-    frames: usize,
-    mut frame: impl FnMut() -> Result<(), String>,
-) -> Result<Vec<Duration>, String> {
-    frame()?;
-    (0..frames)
-        .map(|_| {
-            let start = Instant::now();
-            frame()?;
-            Ok(start.elapsed())
-        })
-        .collect()
-}
-
-/// The median of `times` (not empty).
-fn median(times: &[Duration]) -> Duration {
-    let mut t = times.to_vec();
-    t.sort();
-    t[t.len() / 2]
-}
-
 /// The snow storm preset with `flakes` flakes at its steady state, simulated alone and
 /// simulated and drawn at 1920x1080 on the chosen backend.
 fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Result<(), String> {
     let texture = Arc::new(presets::soft_disc_texture(32));
     let config = presets::snow_storm_system(flakes, Some(texture), 1);
     let mut system = ParticleSystem::new(config).map_err(|e| e.to_string())?;
-    eprintln!("snow: warming the storm up to its steady state (18 s of simulation)...");
-    system.advance_to(18.0);
+    eprintln!(
+        "snow: warming the storm up to its steady state ({} s of simulation)...",
+        presets::SNOW_STORM_WARMUP
+    );
+    system.advance_to(presets::SNOW_STORM_WARMUP);
     let live = system.len();
 
-    let step = time_frames(frames, || {
+    let Ok(step) = time_frames(frames, || -> Result<(), Infallible> {
         system.step();
         Ok(())
-    })?;
+    });
     let step = median(&step);
     println!(
         "snow {live} flakes: simulate one 1/60 s step {:>10}  {:8.1} M particles/s",
@@ -224,21 +207,16 @@ fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Res
 }
 
 /// Times simulate + clear + draw (+ `finish`) frames of `system` on `device`, with the
-/// camera of the snow bench (crates/particles/benches/snow.rs).
+/// snow storm's camera (as in crates/particles/benches/snow.rs).
 fn snow_frames<B: Backend>(
     system: &mut ParticleSystem,
     mut device: Device<B>,
     frames: usize,
     mut finish: impl FnMut() -> Result<(), String>,
 ) -> Result<Duration, String> {
-    device.set_transform(
-        TransformType::View,
-        Mat4::look_at_lh([0.0, 4.0, -20.0], [0.0, 4.0, 0.0], [0.0, 1.0, 0.0]),
-    );
-    device.set_transform(
-        TransformType::Projection,
-        Mat4::perspective_fov_lh(1.047, 1920.0 / 1080.0, 0.1, 200.0),
-    );
+    let (view, projection) = presets::snow_storm_camera(1920.0 / 1080.0);
+    device.set_transform(TransformType::View, view);
+    device.set_transform(TransformType::Projection, projection);
     let mut buffers = DrawBuffers::new();
     let times = time_frames(frames, || {
         system.step();

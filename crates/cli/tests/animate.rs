@@ -1,68 +1,14 @@
 //! `pointillist animate`, `render --frame` and `view` as a user meets them: the files written in
 //! every format, their frame counts, determinism, errors, and Ctrl-C leaving nothing behind.
 
+mod common;
+
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// A scratch folder under the system temp dir, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "pointillist-animate-test-{}-{n}-{name}",
-            std::process::id()
-        ));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-
-    fn write(&self, name: &str, contents: &str) -> PathBuf {
-        let path = self.0.join(name);
-        fs::write(&path, contents).unwrap();
-        path
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-
-    fn listing(&self) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(&self.0)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
-
-fn pointillist(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pointillist"))
-        .args(args)
-        .output()
-        .expect("the pointillist binary runs")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("temp paths are UTF-8")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use common::{TempDir, command, path_arg, pointillist, stderr};
 
 /// A small fountain: 64x36, four frames at 10 fps, particles on every frame.
 const SCENE: &str = r#"
@@ -94,7 +40,7 @@ fn animate_writes_a_looping_gif_with_every_frame() {
     let dir = TempDir::new("gif");
     let scene = dir.write("f.toml", SCENE);
     let out = dir.path("f.gif");
-    let o = pointillist(&["animate", s(&scene), "-o", s(&out)]);
+    let o = pointillist(&["animate", path_arg(&scene), "-o", path_arg(&out)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.starts_with(&format!(
@@ -123,7 +69,7 @@ fn animate_writes_an_apng_of_the_exact_frames_and_is_deterministic() {
     let scene = dir.write("f.toml", SCENE);
     let (a, b) = (dir.path("a.png"), dir.path("b.apng"));
     for out in [&a, &b] {
-        let o = pointillist(&["animate", s(&scene), "-o", s(out)]);
+        let o = pointillist(&["animate", path_arg(&scene), "-o", path_arg(out)]);
         assert!(o.status.success(), "{}", stderr(&o));
     }
     assert_eq!(
@@ -147,7 +93,14 @@ fn animate_writes_an_apng_of_the_exact_frames_and_is_deterministic() {
     );
     // Frame 2 of the APNG is `render --frame 2`, byte for byte.
     let single = dir.path("frame2.png");
-    let o = pointillist(&["render", s(&scene), "-o", s(&single), "--frame", "2"]);
+    let o = pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        path_arg(&single),
+        "--frame",
+        "2",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(&single).unwrap()));
     let mut reader = decoder.read_info().unwrap();
@@ -161,7 +114,14 @@ fn animate_writes_a_numbered_png_sequence() {
     let dir = TempDir::new("seq");
     let scene = dir.write("f.toml", SCENE);
     let pattern = dir.path("f_%03d.png");
-    let o = pointillist(&["animate", s(&scene), "-o", s(&pattern), "--frames", "3"]);
+    let o = pointillist(&[
+        "animate",
+        path_arg(&scene),
+        "-o",
+        path_arg(&pattern),
+        "--frames",
+        "3",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         dir.listing(),
@@ -174,9 +134,9 @@ fn mp4_without_ffmpeg_is_a_clear_error() {
     let dir = TempDir::new("mp4");
     let scene = dir.write("f.toml", SCENE);
     let out = dir.path("f.mp4");
-    let o = Command::new(env!("CARGO_BIN_EXE_pointillist"))
-        .args(["animate", s(&scene), "-o", s(&out)])
-        .env("PATH", s(&dir.0))
+    let o = command()
+        .args(["animate", path_arg(&scene), "-o", path_arg(&out)])
+        .env("PATH", path_arg(dir.dir()))
         .output()
         .unwrap();
     assert!(!o.status.success());
@@ -200,18 +160,35 @@ fn animate_and_render_refuse_bad_requests_in_one_line() {
     );
     let cases: [(&[&str], &str); 4] = [
         (
-            &["animate", s(&scene), "-o", s(&avi)],
+            &["animate", path_arg(&scene), "-o", path_arg(&avi)],
             "cannot tell the format from the name",
         ),
         (
-            &["animate", s(&scene), "-o", s(&png), "--format", "png-seq"],
+            &[
+                "animate",
+                path_arg(&scene),
+                "-o",
+                path_arg(&png),
+                "--format",
+                "png-seq",
+            ],
             "a PNG sequence needs a frame counter in the file name",
         ),
         (
-            &["render", s(&scene), "-o", s(&png), "--frame", "4"],
+            &[
+                "render",
+                path_arg(&scene),
+                "-o",
+                path_arg(&png),
+                "--frame",
+                "4",
+            ],
             "--frame 4 is outside 0..=3 ([animation] frames = 4)",
         ),
-        (&["animate", s(&scene), "-o", s(&deep)], "does not exist"),
+        (
+            &["animate", path_arg(&scene), "-o", path_arg(&deep)],
+            "does not exist",
+        ),
     ];
     for (args, expected) in cases {
         let o = pointillist(args);
@@ -240,8 +217,8 @@ fn ctrl_c_leaves_no_partial_file() {
     );
     let out = dir.path("slow.gif");
     fs::write(&out, b"previous").unwrap();
-    let child = Command::new(env!("CARGO_BIN_EXE_pointillist"))
-        .args(["animate", s(&scene), "-o", s(&out)])
+    let child = command()
+        .args(["animate", path_arg(&scene), "-o", path_arg(&out)])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
@@ -300,11 +277,25 @@ fn every_preset_renders_and_animates() {
     ] {
         let scene = root.join(format!("{name}.toml"));
         let out = dir.path(&format!("{name}.png"));
-        let o = pointillist(&["render", s(&scene), "-o", s(&out), "--frame", "1"]);
+        let o = pointillist(&[
+            "render",
+            path_arg(&scene),
+            "-o",
+            path_arg(&out),
+            "--frame",
+            "1",
+        ]);
         assert!(o.status.success(), "{name}: {}", stderr(&o));
         assert!(stderr(&o).is_empty(), "{name}: {}", stderr(&o));
         let anim = dir.path(&format!("{name}.apng"));
-        let o = pointillist(&["animate", s(&scene), "-o", s(&anim), "--frames", "3"]);
+        let o = pointillist(&[
+            "animate",
+            path_arg(&scene),
+            "-o",
+            path_arg(&anim),
+            "--frames",
+            "3",
+        ]);
         assert!(o.status.success(), "{name}: {}", stderr(&o));
         let frames = png_frames(&anim, 3);
         assert_ne!(frames[0], frames[2], "{name}: the particles move");
@@ -339,7 +330,7 @@ fn view_opens_renders_and_closes() {
         return;
     }
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/fountain.toml");
-    let o = pointillist(&["view", s(&scene), "--frames", "10"]);
+    let o = pointillist(&["view", path_arg(&scene), "--frames", "10"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.starts_with("10 frames, "), "{stdout}");

@@ -1,72 +1,13 @@
 //! The `pointillist` binary as a user meets it: exit status, standard output and error, and the
 //! files it writes (SCENE.md, "Command line").
 
+mod common;
+
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
+use std::process::Output;
 
-/// A scratch folder under the system temp dir, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        static NEXT: AtomicUsize = AtomicUsize::new(0);
-        let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "pointillist-cli-test-{}-{n}-{name}",
-            std::process::id()
-        ));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-
-    fn write(&self, name: &str, contents: &str) -> PathBuf {
-        let path = self.0.join(name);
-        fs::write(&path, contents).unwrap();
-        path
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-
-    /// Names of the files in the folder, sorted.
-    fn listing(&self) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(&self.0)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
-
-fn pointillist(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pointillist"))
-        .args(args)
-        .output()
-        .expect("the pointillist binary runs")
-}
-
-fn path_arg(p: &Path) -> &str {
-    p.to_str().expect("temp paths are UTF-8")
-}
-
-fn stdout(out: &Output) -> String {
-    String::from_utf8(out.stdout.clone()).expect("stdout is UTF-8")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8(out.stderr.clone()).expect("stderr is UTF-8")
-}
+use common::{TempDir, path_arg, pointillist, repo_root, stderr, stdout};
 
 /// Asserts a failure: non-zero status and exactly one line `error: ...` on standard error, which
 /// is returned.
@@ -324,7 +265,7 @@ fn the_gpu_backend_renders_the_cpu_backends_pixels_or_says_why_not() {
         assert!(!gpu_png.exists());
         assert_eq!(one_error_line(&caps), line);
         assert!(
-            std::env::var("POINTILLIST_REQUIRE_GPU").map_or(true, |v| v != "1"),
+            !pointillist_testkit::gpu_required(),
             "POINTILLIST_REQUIRE_GPU=1 but {line}"
         );
         eprintln!("skipping the GPU half: {line}");
@@ -432,11 +373,6 @@ fn help_and_version_succeed_on_stdout() {
         stdout(&out),
         format!("pointillist {}\n", env!("CARGO_PKG_VERSION"))
     );
-}
-
-/// The repository's root folder.
-fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
 /// The body of the README's first fenced block whose info string is `lang`.

@@ -15,43 +15,31 @@
 //!   from the generators below: `cargo test -p pointillist-cli --test golden -- --ignored`
 //!   rewrites them, and `generated_assets_are_up_to_date` checks the committed files match.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use pointillist_image::png::{encode_png_rgba8, load_png};
 use pointillist_image::write_png_atomic;
 
+use common::repo_root;
+
 /// Fewer scenes than this means the scene folder was not found or the glob broke.
 const MIN_SCENES: usize = 10;
 
-/// The workspace root: two levels above this crate.
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
 fn scenes_dir() -> PathBuf {
-    root().join("scenes")
+    repo_root().join("scenes")
 }
 
 fn golden_dir() -> PathBuf {
-    root().join("tests/golden")
+    repo_root().join("tests/golden")
 }
 
 /// Where mismatches are written: `$CARGO_TARGET_DIR/golden-failures`, else
 /// `target/golden-failures` in the workspace.
 fn failures_dir() -> PathBuf {
-    let target = match std::env::var_os("CARGO_TARGET_DIR") {
-        Some(dir) if !dir.is_empty() => {
-            let dir = PathBuf::from(dir);
-            if dir.is_absolute() {
-                dir
-            } else {
-                root().join(dir)
-            }
-        }
-        _ => root().join("target"),
-    };
-    target.join("golden-failures")
+    pointillist_testkit::target_dir().join("golden-failures")
 }
 
 fn blessing() -> bool {
@@ -562,7 +550,7 @@ fn every_scene_renders_with_backend_gpu() {
     for scene in &scenes {
         let name = scene.file_stem().and_then(|s| s.to_str()).expect("name");
         let out = out_dir.join(format!("{name}.png"));
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_pointillist"))
+        let o = common::command()
             .args(["render", scene.to_str().expect("UTF-8 path"), "-o"])
             .arg(&out)
             .args(["--backend", "gpu"])
@@ -572,7 +560,7 @@ fn every_scene_renders_with_backend_gpu() {
             let err = String::from_utf8_lossy(&o.stderr);
             assert!(err.starts_with("error: --backend gpu: "), "{name}: {err}");
             assert!(
-                std::env::var("POINTILLIST_REQUIRE_GPU").map_or(true, |v| v != "1"),
+                !pointillist_testkit::gpu_required(),
                 "POINTILLIST_REQUIRE_GPU=1 but {err}"
             );
             eprintln!("no GPU adapter, skipped: {err}");

@@ -357,6 +357,34 @@ pub trait Backend {
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError>;
 }
 
+/// A boxed backend is a backend, so a program can choose one at run time
+/// (`Device<Box<dyn Backend>>`).
+impl<B: Backend + ?Sized> Backend for Box<B> {
+    fn create_target(
+        &mut self,
+        width: u32,
+        height: u32,
+        color: u32,
+        depth: f32,
+    ) -> Result<(), DeviceError> {
+        (**self).create_target(width, height, color, depth)
+    }
+    fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError> {
+        (**self).clear(color, depth)
+    }
+    fn draw_points(
+        &mut self,
+        state: &DeviceState,
+        fvf: Fvf,
+        vertices: &[u8],
+    ) -> Result<(), DeviceError> {
+        (**self).draw_points(state, fvf, vertices)
+    }
+    fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        (**self).read_target()
+    }
+}
+
 /// A D3D9 device drawing point lists through backend `B`.
 pub struct Device<B: Backend> {
     backend: B,

@@ -206,6 +206,16 @@ pub struct PointSetup {
     planes: [[f32; 4]; 6],
     plane_count: usize,
     scaled_planes: bool,
+    /// [`PointSetup::pixel_plane_steps`], once per draw.
+    plane_steps: [f32; 4],
+}
+
+/// See [`PointSetup::pixel_plane_steps`]: clip-space x at column i is
+/// `((i - vp.x) * 2 / vp.width - 1) * w`, y likewise, flipped.
+fn pixel_plane_steps(vp: &Viewport) -> [f32; 4] {
+    let sx = 2.0 / vp.width as f32;
+    let sy = 2.0 / vp.height as f32;
+    [sx, sy, -(vp.x as f32) * sx - 1.0, 1.0 + vp.y as f32 * sy]
 }
 
 fn dot4(a: [f32; 4], b: [f32; 4]) -> f32 {
@@ -281,6 +291,7 @@ impl PointSetup {
             planes,
             plane_count,
             scaled_planes,
+            plane_steps: pixel_plane_steps(&vp),
         }
     }
 
@@ -307,6 +318,13 @@ impl PointSetup {
     /// D3DTS_PROJECTION: eye to clip space (SPEC 1).
     pub fn projection(&self) -> &Mat4 {
         &self.projection
+    }
+
+    /// The per-draw terms of a scaled clip plane's pixel form (SPEC 3.3): clip-space x at
+    /// pixel column i is `(i * sx + ox) * w`, y at row j is `(j * -sy + oy) * w`; returns
+    /// `[sx, sy, ox, oy]` = `[2 / vp.width, 2 / vp.height, -vp.x * sx - 1, 1 + vp.y * sy]`.
+    pub fn pixel_plane_steps(&self) -> [f32; 4] {
+        self.plane_steps
     }
 
     /// The viewport points are mapped to (SPEC 1).
@@ -462,18 +480,12 @@ impl PointSetup {
                 .iter()
                 .all(|p| dot4(*p, world) >= 0.0);
         }
-        let vp = &self.viewport;
         let w = c[3];
-        // Clip-space x at column i: ((i - vp.x) * 2 / vp.width - 1) * w; y likewise, flipped.
-        let sx = 2.0 / vp.width as f32;
-        let sy = 2.0 / vp.height as f32;
+        let [sx, sy, ox, oy] = self.plane_steps;
         let r = point.rect;
         for p in &self.planes[..self.plane_count] {
             let plane = PixelPlane {
-                c0: p[0] * w * (-(vp.x as f32) * sx - 1.0)
-                    + p[1] * w * (1.0 + vp.y as f32 * sy)
-                    + p[2] * c[2]
-                    + p[3] * w,
+                c0: p[0] * w * ox + p[1] * w * oy + p[2] * c[2] + p[3] * w,
                 ci: p[0] * w * sx,
                 cj: -p[1] * w * sy,
             };

@@ -463,6 +463,9 @@ macro_rules! typed_enum {
         const $table: &[(&str, u32)] = &[ $( ($name, $val), )* ];
 
         impl $ty {
+            #[doc = concat!("Every `", $prefix, "*` value, in D3D order.")]
+            pub const ALL: &'static [Self] = &[ $( $ty::$var, )* ];
+
             #[doc = concat!("The variant with D3D value `raw`; `None` for a value that is not a `",
                 $prefix, "*`.")]
             pub fn from_raw(raw: u32) -> Option<Self> {

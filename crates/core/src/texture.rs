@@ -346,15 +346,16 @@ impl SamplerDesc {
     }
 }
 
-/// True when a MIN/MAG filter filters linearly (LINEAR and the filters that behave like it).
+/// True when a MIN/MAG filter filters linearly (LINEAR and the filters that behave like it);
+/// for MIPFILTER, true when two levels are blended (SPEC 5.2).
 #[inline]
-fn is_linear(f: TextureFilter) -> bool {
+pub fn is_linear(f: TextureFilter) -> bool {
     !matches!(f, TextureFilter::None | TextureFilter::Point)
 }
 
 /// Coordinates beyond this magnitude are clamped to it before scaling: it keeps texel indices
 /// small enough for exact integer arithmetic while leaving every sensible coordinate unchanged.
-const COORD_LIMIT: f32 = 1_048_576.0;
+pub const COORD_LIMIT: f32 = 1_048_576.0;
 
 /// A texture coordinate made safe: NaN becomes 0, infinities and huge values are clamped.
 #[inline]
@@ -938,13 +939,7 @@ mod tests {
     #[test]
     fn spec_5_2_nan_and_infinite_coordinates_do_not_panic() {
         let t = row4();
-        for mode in [
-            TextureAddress::Wrap,
-            TextureAddress::Mirror,
-            TextureAddress::Clamp,
-            TextureAddress::Border,
-            TextureAddress::MirrorOnce,
-        ] {
+        for &mode in TextureAddress::ALL {
             for f in [TextureFilter::Point, TextureFilter::Linear] {
                 for mip in [
                     TextureFilter::None,

@@ -22,6 +22,8 @@
 
 mod raster;
 mod simd;
+#[cfg(test)]
+mod test_rng;
 
 use pointillist_core::device::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,

@@ -167,6 +167,15 @@ struct StageTexture<'a> {
     set: usize,
 }
 
+impl<'a> StageTexture<'a> {
+    /// The sampler at the level of detail of a sprite of `size` pixels (SPEC 4.3, 5.2).
+    #[inline]
+    fn sprite_sampler(&self, size: f32) -> LodSampler<'a> {
+        let lod = sprite_lod(self.texture.width(), self.texture.height(), size);
+        self.texture.at_lod(&self.sampler, lod)
+    }
+}
+
 /// Everything resolved once per draw.
 struct DrawContext<'a> {
     points: PointSetup,
@@ -305,36 +314,52 @@ impl Binned for Index {
     }
 }
 
-/// A point of one colour, the diffuse colour ([`Shading::Diffuse`]), without per-pixel clip
-/// planes: the rectangle (target sizes fit u16, [`MAX_TARGET_SIZE`]), depth and colour, 16
-/// bytes. Points the alpha test rejects (SPEC 5.4) are not binned.
+/// A covered rectangle in 8 bytes: target sizes fit u16 ([`MAX_TARGET_SIZE`]).
 ///
 /// [`MAX_TARGET_SIZE`]: pointillist_core::device::MAX_TARGET_SIZE
 #[derive(Copy, Clone)]
+struct Rect16([u16; 4]);
+impl Rect16 {
+    #[inline]
+    fn new(r: PixelRect) -> Rect16 {
+        Rect16([r.x0 as u16, r.y0 as u16, r.x1 as u16, r.y1 as u16])
+    }
+    #[inline]
+    fn get(self) -> PixelRect {
+        let [x0, y0, x1, y1] = self.0.map(i32::from);
+        PixelRect { x0, y0, x1, y1 }
+    }
+    #[inline]
+    fn rows(self) -> (i32, i32) {
+        (i32::from(self.0[1]), i32::from(self.0[3]))
+    }
+}
+
+/// A point of one colour, the diffuse colour ([`Shading::Diffuse`]), without per-pixel clip
+/// planes: the rectangle, depth and colour, 16 bytes. Points the alpha test rejects (SPEC 5.4)
+/// are not binned.
+#[derive(Copy, Clone)]
 struct Solid {
-    rect: [u16; 4],
+    rect: Rect16,
     z: f32,
     color: u32,
 }
 impl Binned for Solid {
     #[inline]
     fn new(ctx: &DrawContext, p: &ScreenPoint, _: u32) -> Option<Solid> {
-        let r = p.rect;
         alpha_test_passes(ctx.pixel.alpha_test, p.diffuse).then_some(Solid {
-            rect: [r.x0 as u16, r.y0 as u16, r.x1 as u16, r.y1 as u16],
+            rect: Rect16::new(p.rect),
             z: p.z,
             color: p.diffuse,
         })
     }
     #[inline]
     fn rows(&self) -> (i32, i32) {
-        (i32::from(self.rect[1]), i32::from(self.rect[3]))
+        self.rect.rows()
     }
     #[inline]
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, _: &mut Scratch) {
-        let [x0, y0, x1, y1] = self.rect.map(i32::from);
-        let rect = PixelRect { x0, y0, x1, y1 };
-        fill_solid(ctx, b, rect, self.z, self.color, band);
+        fill_solid(ctx, b, self.rect.get(), self.z, self.color, band);
     }
 }
 
@@ -342,7 +367,7 @@ impl Binned for Solid {
 /// depth, diffuse colour, near edges and size (SPEC 4.3), 28 bytes.
 #[derive(Copy, Clone)]
 struct Sprite {
-    rect: [u16; 4],
+    rect: Rect16,
     z: f32,
     diffuse: u32,
     left: f32,
@@ -352,9 +377,8 @@ struct Sprite {
 impl Binned for Sprite {
     #[inline]
     fn new(_: &DrawContext, p: &ScreenPoint, _: u32) -> Option<Sprite> {
-        let r = p.rect;
         Some(Sprite {
-            rect: [r.x0 as u16, r.y0 as u16, r.x1 as u16, r.y1 as u16],
+            rect: Rect16::new(p.rect),
             z: p.z,
             diffuse: p.diffuse,
             left: p.left,
@@ -364,10 +388,9 @@ impl Binned for Sprite {
     }
     #[inline]
     fn rows(&self) -> (i32, i32) {
-        (i32::from(self.rect[1]), i32::from(self.rect[3]))
+        self.rect.rows()
     }
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
-        let [x0, y0, x1, y1] = self.rect.map(i32::from);
         let p = ScreenPoint {
             // The centre is not read by the fill; specular and the vertex only by the cascade.
             x: 0.0,
@@ -376,7 +399,7 @@ impl Binned for Sprite {
             size: self.size,
             left: self.left,
             top: self.top,
-            rect: PixelRect { x0, y0, x1, y1 },
+            rect: self.rect.get(),
             diffuse: self.diffuse,
             specular: 0,
             vertex: 0,
@@ -492,10 +515,10 @@ fn inputs(p: &ScreenPoint) -> ShadeInputs {
     }
 }
 
-/// The rows of `p` inside `band`.
+/// The rows of `r` inside `band`.
 #[inline]
-fn rows(p: &ScreenPoint, band: &Band) -> std::ops::Range<i32> {
-    p.rect.y0.max(band.y0)..p.rect.y1.min(band.y1)
+fn rows(r: PixelRect, band: &Band) -> std::ops::Range<i32> {
+    r.y0.max(band.y0)..r.y1.min(band.y1)
 }
 
 /// One point whose every pixel has the same colour: shade once, then depth and blend per pixel.
@@ -520,7 +543,7 @@ fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut B
     if planes.is_empty() {
         return fill_solid(ctx, b, r, p.z, color, band);
     }
-    for j in rows(p, band) {
+    for j in rows(p.rect, band) {
         let row = (j - band.y0) as usize * band.width;
         for i in r.x0..r.x1 {
             if planes.iter().all(|pl| pl.keeps(i, j)) {
@@ -541,18 +564,17 @@ fn fill_solid<B: Blender>(
     color: u32,
     band: &mut Band,
 ) {
-    let (y0, y1) = (r.y0.max(band.y0), r.y1.min(band.y1));
     let (x0, x1) = (r.x0 as usize, r.x1 as usize);
     if ctx.pixel.depth.is_none() {
         // The common particle case: whole rows, blend and mask only.
         let mask = ctx.pixel.write_mask;
-        for j in y0..y1 {
+        for j in rows(r, band) {
             let row = (j - band.y0) as usize * band.width;
             b.blend_row(color, &mut band.color[row + x0..row + x1], mask);
         }
         return;
     }
-    for j in y0..y1 {
+    for j in rows(r, band) {
         let row = (j - band.y0) as usize * band.width;
         for at in row + x0..row + x1 {
             write_pixel(ctx, b, band, at, z, color);
@@ -569,12 +591,7 @@ fn sprite_samplers<'a>(
 ) -> [Option<LodSampler<'a>>; MAX_STAGES] {
     u.clear();
     u.extend((p.rect.x0..p.rect.x1).map(|i| sprite_coord(i, p.left, p.size)));
-    std::array::from_fn(|k| {
-        ctx.textures[k].as_ref().map(|t| {
-            let lod = sprite_lod(t.texture.width(), t.texture.height(), p.size);
-            t.texture.at_lod(&t.sampler, lod)
-        })
-    })
+    std::array::from_fn(|k| ctx.textures[k].as_ref().map(|t| t.sprite_sampler(p.size)))
 }
 
 /// A textured sprite through the general cascade, shaded per pixel.
@@ -588,7 +605,7 @@ fn fill_sprite<B: Blender>(
     let samplers = sprite_samplers(ctx, p, u);
     let input = inputs(p);
     let planes = p.pixel_planes();
-    for j in rows(p, band) {
+    for j in rows(p.rect, band) {
         let v = sprite_coord(j, p.top, p.size);
         let row = (j - band.y0) as usize * band.width;
         for (i, &u) in (p.rect.x0..p.rect.x1).zip(u.iter()) {
@@ -620,8 +637,7 @@ fn fill_modulate<B: Blender>(
     let Some(t) = &ctx.textures[0] else {
         return fill_sprite(ctx, b, p, band, &mut s.u);
     };
-    let lod = sprite_lod(t.texture.width(), t.texture.height(), p.size);
-    let sampler = t.texture.at_lod(&t.sampler, lod);
+    let sampler = t.sprite_sampler(p.size);
     if sampler.is_linear() {
         fill_modulate_with::<B, true>(ctx, b, p, band, &mut s.cols, alpha, &sampler);
     } else {
@@ -667,7 +683,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
     let diffuse_alpha = alpha == ModulateAlpha::Diffuse;
     let planes = p.pixel_planes();
     let width = w as usize;
-    for j in rows(p, band) {
+    for j in rows(p.rect, band) {
         let v = sprite_coord(j, p.top, p.size);
         let (l, fy) = if LINEAR {
             linear_texel(v, h)
@@ -740,6 +756,7 @@ fn write_pixel<B: Blender>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_rng::Rng;
     use pointillist_core::device::DeviceDesc;
     use pointillist_core::states::{
         Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureStageState,
@@ -759,22 +776,6 @@ mod tests {
             None => draw_with(&ctx, &Replace, target),
             Some(b) => draw_with(&ctx, &General(b), target),
         });
-    }
-
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 16) as u32
-        }
-        fn pick<T: Copy>(&mut self, from: &[T]) -> T {
-            from[self.next() as usize % from.len()]
-        }
-        fn range(&mut self, lo: f32, hi: f32) -> f32 {
-            lo + (hi - lo) * (self.next() % 65536) as f32 / 65536.0
-        }
     }
 
     /// Random textured-sprite scenes through the fast paths (span sampler, [`F4`] arithmetic,

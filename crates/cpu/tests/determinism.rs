@@ -1,24 +1,17 @@
 //! The same draw gives the same bytes with any thread count (the banded parallel path against
 //! the sequential one), on a large overlapping scene that exercises every fill path.
 
+mod common;
+
 use std::sync::Arc;
+
+use common::Rng;
 
 use pointillist_core::device::{DeviceDesc, RenderTarget, TransformType};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Blend, RenderState, SamplerState, TextureFilter};
 use pointillist_core::texture::Texture;
-
-fn xorshift(seed: &mut u64) -> u64 {
-    *seed ^= *seed << 13;
-    *seed ^= *seed >> 7;
-    *seed ^= *seed << 17;
-    *seed
-}
-
-fn unit(seed: &mut u64) -> f32 {
-    (xorshift(seed) >> 40) as f32 / (1u64 << 24) as f32
-}
 
 /// 30,000 overlapping points in three draws: flat additive, textured alpha-blended sprites with
 /// a depth test, and transformed scaled points with a clip plane.
@@ -29,20 +22,20 @@ fn render(threads: usize) -> RenderTarget {
         .expect("pool");
     pool.install(|| {
         let mut d = pointillist_cpu::device(DeviceDesc::new(320, 240)).expect("device");
-        let mut seed = 0x1234_5678_9ABC_DEF1u64;
-        let texels = (0..16 * 16).map(|_| xorshift(&mut seed) as u32).collect();
+        let mut rng = Rng(0x1234_5678_9ABC_DEF1);
+        let texels = (0..16 * 16).map(|_| rng.next_u64() as u32).collect();
         let texture = Arc::new(Texture::from_argb(16, 16, texels).expect("texture"));
         let rhw = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
-        let points = |n: usize, seed: &mut u64, z_range: f32| -> Vec<u8> {
+        let points = |n: usize, rng: &mut Rng, z_range: f32| -> Vec<u8> {
             let mut v = Vec::new();
             for _ in 0..n {
                 let words = [
-                    (unit(seed) * 340.0 - 10.0).to_bits(),
-                    (unit(seed) * 260.0 - 10.0).to_bits(),
-                    (unit(seed) * z_range).to_bits(),
+                    (rng.unit() * 340.0 - 10.0).to_bits(),
+                    (rng.unit() * 260.0 - 10.0).to_bits(),
+                    (rng.unit() * z_range).to_bits(),
                     1.0f32.to_bits(),
-                    (1.0 + unit(seed) * 20.0).to_bits(),
-                    xorshift(seed) as u32,
+                    (1.0 + rng.unit() * 20.0).to_bits(),
+                    rng.next_u64() as u32,
                 ];
                 v.extend(words.iter().flat_map(|w| w.to_le_bytes()));
             }
@@ -52,7 +45,7 @@ fn render(threads: usize) -> RenderTarget {
         d.set_render_state(RenderState::SRCBLEND, Blend::One);
         d.set_render_state(RenderState::DESTBLEND, Blend::One);
         d.set_render_state(RenderState::ZENABLE, false);
-        let flat = points(10_000, &mut seed, 0.0);
+        let flat = points(10_000, &mut rng, 0.0);
         d.draw_point_list(rhw, &flat).expect("flat draw");
 
         d.set_render_state(RenderState::ZENABLE, true);
@@ -64,7 +57,7 @@ fn render(threads: usize) -> RenderTarget {
             .expect("mag");
         d.set_sampler_state(0, SamplerState::MINFILTER, TextureFilter::Linear)
             .expect("min");
-        let sprites = points(10_000, &mut seed, 1.0);
+        let sprites = points(10_000, &mut rng, 1.0);
         d.draw_point_list(rhw, &sprites).expect("sprite draw");
 
         d.set_render_state(RenderState::POINTSCALEENABLE, true);
@@ -79,11 +72,11 @@ fn render(threads: usize) -> RenderTarget {
         let mut v = Vec::new();
         for _ in 0..10_000 {
             let words = [
-                (unit(&mut seed) * 8.0 - 4.0).to_bits(),
-                (unit(&mut seed) * 6.0 - 3.0).to_bits(),
-                (1.0 + unit(&mut seed) * 10.0).to_bits(),
-                (0.02 + unit(&mut seed) * 0.1).to_bits(),
-                xorshift(&mut seed) as u32,
+                (rng.unit() * 8.0 - 4.0).to_bits(),
+                (rng.unit() * 6.0 - 3.0).to_bits(),
+                (1.0 + rng.unit() * 10.0).to_bits(),
+                (0.02 + rng.unit() * 0.1).to_bits(),
+                rng.next_u64() as u32,
             ];
             v.extend(words.iter().flat_map(|w| w.to_le_bytes()));
         }

@@ -21,8 +21,7 @@ type Rs = RenderState;
 
 /// The integers k in `0..n` with `lo <= k < hi`, found by walking k in f64 over a range around
 /// the edges (no ceil arithmetic shared with the implementation).
-fn covered(lo: f32, hi: f32, n: u32) -> Vec<u32> {
-    let (lo, hi) = (f64::from(lo), f64::from(hi));
+fn covered(lo: f64, hi: f64, n: u32) -> Vec<u32> {
     let start = (lo.floor() as i64 - 2).max(0);
     let end = (hi.floor() as i64 + 2).min(i64::from(n) - 1);
     (start..=end)
@@ -65,8 +64,8 @@ proptest! {
         let t = target(&mut d);
         let got = drawn(&t, BLACK);
         let half = s / 2.0;
-        let xs = covered(x - half, x + half, w);
-        let ys = covered(y - half, y + half, h);
+        let xs = covered(f64::from(x - half), f64::from(x + half), w);
+        let ys = covered(f64::from(y - half), f64::from(y + half), h);
         prop_assert_eq!(got.len(), xs.len() * ys.len());
         let want: BTreeSet<(u32, u32)> =
             ys.iter().flat_map(|&j| xs.iter().map(move |&i| (i, j))).collect();
@@ -159,11 +158,8 @@ proptest! {
         d.set_render_state(Rs::POINTSIZE, si);
         draw(&mut d, XYZ, &[f(ex), f(ey), f(ez)]);
         let got = drawn(&target(&mut d), BLACK);
-        let axis = |lo: f64, hi: f64, n: u32| -> Vec<u32> {
-            (0..n).filter(|&k| lo <= f64::from(k) && f64::from(k) < hi).collect()
-        };
-        let xs = axis(edges[0], edges[1], 64);
-        let ys = axis(edges[2], edges[3], vh);
+        let xs = covered(edges[0], edges[1], 64);
+        let ys = covered(edges[2], edges[3], vh);
         let want: BTreeSet<(u32, u32)> =
             ys.iter().flat_map(|&j| xs.iter().map(move |&i| (i, j))).collect();
         prop_assert_eq!(got, want, "S = {}", s);

@@ -48,9 +48,9 @@ fn translate(x: f32, y: f32, z: f32) -> Mat4 {
 fn rhw_pixels(
     w: u32,
     h: u32,
-    setup: impl FnOnce(&mut TestDevice),
     x: f32,
     y: f32,
+    setup: impl FnOnce(&mut TestDevice),
 ) -> BTreeSet<(u32, u32)> {
     let mut d = dev(w, h);
     setup(&mut d);
@@ -109,18 +109,12 @@ fn spec_2_1_psize_accepted_and_ignored_without_the_cap() {
 
 #[test]
 fn spec_2_2_pretransformed_points_are_never_scaled() {
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSCALEENABLE, true);
-            d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-            d.set_render_state(Rs::POINTSCALE_C, 4.0f32);
-            d.set_render_state(Rs::POINTSIZE, 5.0f32);
-        },
-        16.0,
-        16.0,
-    );
+    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+        d.set_render_state(Rs::POINTSCALEENABLE, true);
+        d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
+        d.set_render_state(Rs::POINTSCALE_C, 4.0f32);
+        d.set_render_state(Rs::POINTSIZE, 5.0f32);
+    });
     assert_eq!(px, rect(14, 14, 18, 18));
 }
 
@@ -273,43 +267,25 @@ fn spec_2_2_per_vertex_size_is_scaled_too() {
 
 #[test]
 fn spec_2_3_max_wins_over_min() {
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, 9.0f32);
-            d.set_render_state(Rs::POINTSIZE_MIN, 13.0f32);
-            d.set_render_state(Rs::POINTSIZE_MAX, 5.0f32);
-        },
-        16.0,
-        16.0,
-    );
+    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 9.0f32);
+        d.set_render_state(Rs::POINTSIZE_MIN, 13.0f32);
+        d.set_render_state(Rs::POINTSIZE_MAX, 5.0f32);
+    });
     assert_eq!(px, rect(14, 14, 18, 18));
 }
 
 #[test]
 fn spec_2_3_min_raises_and_max_lowers_the_size() {
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, 1.0f32);
-            d.set_render_state(Rs::POINTSIZE_MIN, 7.0f32);
-        },
-        16.0,
-        16.0,
-    );
+    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 1.0f32);
+        d.set_render_state(Rs::POINTSIZE_MIN, 7.0f32);
+    });
     assert_eq!(px, rect(13, 13, 19, 19));
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, 21.0f32);
-            d.set_render_state(Rs::POINTSIZE_MAX, 3.0f32);
-        },
-        16.0,
-        16.0,
-    );
+    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 21.0f32);
+        d.set_render_state(Rs::POINTSIZE_MAX, 3.0f32);
+    });
     assert_eq!(px, rect(15, 15, 17, 17));
 }
 
@@ -350,28 +326,16 @@ fn spec_2_3_nan_size_counts_as_zero() {
         f32::from_bits(0xFFBF_0001),
     ] {
         // MIN 0: S = 0, nothing drawn.
-        let px = rhw_pixels(
-            32,
-            32,
-            |d| {
-                d.set_render_state(Rs::POINTSIZE, nan);
-                d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-            },
-            16.0,
-            16.0,
-        );
+        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+            d.set_render_state(Rs::POINTSIZE, nan);
+            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
+        });
         assert!(px.is_empty(), "{nan:?}: {px:?}");
         // MIN 3: S = 3.
-        let px = rhw_pixels(
-            32,
-            32,
-            |d| {
-                d.set_render_state(Rs::POINTSIZE, nan);
-                d.set_render_state(Rs::POINTSIZE_MIN, 3.0f32);
-            },
-            16.0,
-            16.0,
-        );
+        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+            d.set_render_state(Rs::POINTSIZE, nan);
+            d.set_render_state(Rs::POINTSIZE_MIN, 3.0f32);
+        });
         assert_eq!(px, rect(15, 15, 17, 17));
     }
 }
@@ -379,44 +343,26 @@ fn spec_2_3_nan_size_counts_as_zero() {
 #[test]
 fn spec_2_3_negative_size_counts_as_zero() {
     for neg in [-5.0f32, -0.0, f32::NEG_INFINITY, -f32::MIN_POSITIVE] {
-        let px = rhw_pixels(
-            32,
-            32,
-            |d| {
-                d.set_render_state(Rs::POINTSIZE, neg);
-                d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-            },
-            16.0,
-            16.0,
-        );
+        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+            d.set_render_state(Rs::POINTSIZE, neg);
+            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
+        });
         assert!(px.is_empty(), "{neg}: {px:?}");
         // Not |size|: -5 with MIN 3 is 3, not 5.
-        let px = rhw_pixels(
-            32,
-            32,
-            |d| {
-                d.set_render_state(Rs::POINTSIZE, neg);
-                d.set_render_state(Rs::POINTSIZE_MIN, 3.0f32);
-            },
-            16.0,
-            16.0,
-        );
+        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+            d.set_render_state(Rs::POINTSIZE, neg);
+            d.set_render_state(Rs::POINTSIZE_MIN, 3.0f32);
+        });
         assert_eq!(px, rect(15, 15, 17, 17), "{neg}");
     }
 }
 
 #[test]
 fn spec_2_3_positive_infinity_clamps_to_hi() {
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, f32::INFINITY);
-            d.set_render_state(Rs::POINTSIZE_MAX, 7.0f32);
-        },
-        16.0,
-        16.0,
-    );
+    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, f32::INFINITY);
+        d.set_render_state(Rs::POINTSIZE_MAX, 7.0f32);
+    });
     assert_eq!(px, rect(13, 13, 19, 19));
     // hi = caps.max_point_size when MAX is larger.
     let caps = Caps {
@@ -557,16 +503,10 @@ fn spec_2_5_sizes_are_exact_f32_not_rounded() {
 #[test]
 fn spec_2_5_size_zero_draws_nothing() {
     for (x, y) in [(16.0f32, 16.0f32), (16.5, 16.5), (0.0, 0.0)] {
-        let px = rhw_pixels(
-            32,
-            32,
-            |d| {
-                d.set_render_state(Rs::POINTSIZE, 0.0f32);
-                d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-            },
-            x,
-            y,
-        );
+        let px = rhw_pixels(32, 32, x, y, |d| {
+            d.set_render_state(Rs::POINTSIZE, 0.0f32);
+            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
+        });
         assert!(px.is_empty(), "({x}, {y}): {px:?}");
     }
     // Per-vertex 0 too.
@@ -579,28 +519,16 @@ fn spec_2_5_size_zero_draws_nothing() {
 #[test]
 fn spec_2_5_square_covering_no_centre_draws_nothing() {
     // Size 0.5 at 16.5: [16.25, 16.75) holds no integer.
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, 0.5f32);
-            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-        },
-        16.5,
-        16.5,
-    );
+    let px = rhw_pixels(32, 32, 16.5, 16.5, |d| {
+        d.set_render_state(Rs::POINTSIZE, 0.5f32);
+        d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
+    });
     assert!(px.is_empty(), "{px:?}");
     // Only one axis missing is enough.
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, 0.9f32);
-            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-        },
-        16.0,
-        16.5,
-    );
+    let px = rhw_pixels(32, 32, 16.0, 16.5, |d| {
+        d.set_render_state(Rs::POINTSIZE, 0.9f32);
+        d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
+    });
     assert!(px.is_empty(), "{px:?}");
 }
 
@@ -623,25 +551,17 @@ fn spec_2_6_d3d9_defaults() {
 #[test]
 fn spec_2_6_d3d9_default_states_in_pixels() {
     // POINTSIZE 1: one pixel.
-    let px = rhw_pixels(16, 16, |_| {}, 8.0, 8.0);
+    let px = rhw_pixels(16, 16, 8.0, 8.0, |_| {});
     assert_eq!(px, rect(8, 8, 8, 8));
     // MIN 1: size 0.5 is raised to 1 and covers [16, 17) at 16.5 (D3D8 would draw nothing).
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| d.set_render_state(Rs::POINTSIZE, 0.5f32),
-        16.5,
-        16.5,
-    );
+    let px = rhw_pixels(32, 32, 16.5, 16.5, |d| {
+        d.set_render_state(Rs::POINTSIZE, 0.5f32)
+    });
     assert_eq!(px, rect(16, 16, 16, 16));
     // MAX = caps (8192): a 100-pixel point is not limited.
-    let px = rhw_pixels(
-        128,
-        128,
-        |d| d.set_render_state(Rs::POINTSIZE, 101.0f32),
-        64.0,
-        64.0,
-    );
+    let px = rhw_pixels(128, 128, 64.0, 64.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 101.0f32)
+    });
     assert_eq!(px, rect(14, 14, 114, 114));
     // POINTSCALEENABLE off: a transformed point is POINTSIZE pixels (no Vh factor).
     let mut d = dev(32, 32);
@@ -776,28 +696,16 @@ fn spec_2_7_render_states_hold_raw_bits() {
 #[test]
 fn spec_2_7_sizes_from_raw_bits_follow_rules_3_and_5() {
     // A subnormal size is a real, tiny size: nothing drawn at a half-integer centre with MIN 0.
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, 0x0000_0001u32);
-            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-        },
-        16.5,
-        16.5,
-    );
+    let px = rhw_pixels(32, 32, 16.5, 16.5, |d| {
+        d.set_render_state(Rs::POINTSIZE, 0x0000_0001u32);
+        d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
+    });
     assert!(px.is_empty());
     // A NaN MIN is no lower bound; the size stays 5.
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| {
-            d.set_render_state(Rs::POINTSIZE, 5.0f32);
-            d.set_render_state(Rs::POINTSIZE_MIN, 0x7FC0_0000u32);
-        },
-        16.0,
-        16.0,
-    );
+    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 5.0f32);
+        d.set_render_state(Rs::POINTSIZE_MIN, 0x7FC0_0000u32);
+    });
     assert_eq!(px, rect(14, 14, 18, 18));
 }
 
@@ -998,26 +906,18 @@ fn spec_3_1_pretransformed_rhw_not_positive_drops_the_point() {
 #[test]
 fn spec_3_2_partly_visible_point_writes_only_pixels_inside() {
     // Size 7 at (1, 30) in 32x32: [-2.5, 4.5) x [26.5, 33.5) -> 0..=4 x 27..=31.
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| d.set_render_state(Rs::POINTSIZE, 7.0f32),
-        1.0,
-        30.0,
-    );
+    let px = rhw_pixels(32, 32, 1.0, 30.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 7.0f32)
+    });
     assert_eq!(px, rect(0, 27, 4, 31));
 }
 
 #[test]
 fn spec_3_2_no_centre_clipping() {
     // Centre (-2, 8) outside the target, size 9: [-6.5, 2.5) -> columns 0..=2.
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| d.set_render_state(Rs::POINTSIZE, 9.0f32),
-        -2.0,
-        8.0,
-    );
+    let px = rhw_pixels(32, 32, -2.0, 8.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 9.0f32)
+    });
     assert_eq!(px, rect(0, 4, 2, 12));
     // Transformed, centre at clip x = -1.125 (X = -2 on a 32-wide viewport).
     let mut d = dev(32, 32);
@@ -1029,25 +929,17 @@ fn spec_3_2_no_centre_clipping() {
 #[test]
 fn spec_3_2_wholly_outside_point_is_dropped() {
     for (x, y) in [(-5.0f32, 8.0f32), (36.5, 8.0), (8.0, -4.6), (8.0, 36.5)] {
-        let px = rhw_pixels(32, 32, |d| d.set_render_state(Rs::POINTSIZE, 9.0f32), x, y);
+        let px = rhw_pixels(32, 32, x, y, |d| d.set_render_state(Rs::POINTSIZE, 9.0f32));
         assert!(px.is_empty(), "({x}, {y}): {px:?}");
     }
     // Just touching: [-9, 0) covers no column of the target, [-8.9, 0.1) covers column 0.
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| d.set_render_state(Rs::POINTSIZE, 9.0f32),
-        -4.5,
-        8.0,
-    );
+    let px = rhw_pixels(32, 32, -4.5, 8.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 9.0f32)
+    });
     assert!(px.is_empty());
-    let px = rhw_pixels(
-        32,
-        32,
-        |d| d.set_render_state(Rs::POINTSIZE, 9.0f32),
-        -4.4,
-        8.0,
-    );
+    let px = rhw_pixels(32, 32, -4.4, 8.0, |d| {
+        d.set_render_state(Rs::POINTSIZE, 9.0f32)
+    });
     assert_eq!(px, rect(0, 4, 0, 12));
 }
 
@@ -1306,13 +1198,9 @@ fn spec_3_3_pretransformed_points_ignore_clip_planes() {
 #[test]
 fn spec_4_1_examples_centre_64() {
     for (size, a, b) in [(1.0f32, 64, 64), (15.0, 57, 71), (30.75, 49, 79)] {
-        let px = rhw_pixels(
-            128,
-            128,
-            |d| d.set_render_state(Rs::POINTSIZE, size),
-            64.0,
-            64.0,
-        );
+        let px = rhw_pixels(128, 128, 64.0, 64.0, |d| {
+            d.set_render_state(Rs::POINTSIZE, size)
+        });
         assert_eq!(px, rect(a, a, b, b), "size {size}");
     }
 }
@@ -1330,7 +1218,7 @@ fn spec_4_1_top_left_rule() {
         (6.0, 20.25, 7.75, (18, 23), (5, 10)), // [17.25, 23.25) x [4.75, 10.75)
     ];
     for (size, x, y, xr, yr) in cases {
-        let px = rhw_pixels(32, 32, |d| d.set_render_state(Rs::POINTSIZE, size), x, y);
+        let px = rhw_pixels(32, 32, x, y, |d| d.set_render_state(Rs::POINTSIZE, size));
         assert_eq!(
             px,
             rect(xr.0, yr.0, xr.1, yr.1),
@@ -1350,7 +1238,7 @@ fn spec_4_1_pixel_centres_are_integers() {
         (4.5, 4),
         (4.51, 5),
     ] {
-        let px = rhw_pixels(16, 16, |_| {}, x, x);
+        let px = rhw_pixels(16, 16, x, x, |_| {});
         assert_eq!(px, rect(want, want, want, want), "x {x}");
     }
 }
@@ -2693,14 +2581,7 @@ fn spec_5_5_every_blend_factor_pair_with_add() {
 #[test]
 fn spec_5_5_every_blend_op() {
     let (s, d) = (ch(SRC), ch(DST));
-    let ops = [
-        BlendOp::Add,
-        BlendOp::Subtract,
-        BlendOp::RevSubtract,
-        BlendOp::Min,
-        BlendOp::Max,
-    ];
-    for op in ops {
+    for &op in BlendOp::ALL {
         for (sf, df) in [
             (Blend::One, Blend::One),
             (Blend::SrcAlpha, Blend::InvSrcAlpha),
@@ -2848,24 +2729,22 @@ fn spec_5_5_points_are_drawn_in_vertex_order() {
         d.set_render_state(Rs::DESTBLEND, Blend::InvSrcAlpha);
         d.set_render_state(Rs::POINTSIZE, 3.0f32);
     };
+    // A at (3, 3), then B at (4, 4), in one draw.
+    let both = [
+        f(3.0),
+        f(3.0),
+        f(0.5),
+        f(1.0),
+        a,
+        f(4.0),
+        f(4.0),
+        f(0.5),
+        f(1.0),
+        b,
+    ];
     let mut d = dev(8, 8);
     setup(&mut d);
-    draw(
-        &mut d,
-        RHW_D,
-        &[
-            f(3.0),
-            f(3.0),
-            f(0.5),
-            f(1.0),
-            a,
-            f(4.0),
-            f(4.0),
-            f(0.5),
-            f(1.0),
-            b,
-        ],
-    );
+    draw(&mut d, RHW_D, &both);
     let t = target(&mut d);
     assert_eq!(t.pixel(3, 3), over(over(BLACK, a), b));
     assert_eq!(t.pixel(2, 2), over(BLACK, a));
@@ -2883,22 +2762,7 @@ fn spec_5_5_points_are_drawn_in_vertex_order() {
         let mut d = dev(8, 8);
         d.set_render_state(Rs::POINTSIZE, 3.0f32);
         d.set_render_state(Rs::ZFUNC, func);
-        draw(
-            &mut d,
-            RHW_D,
-            &[
-                f(3.0),
-                f(3.0),
-                f(0.5),
-                f(1.0),
-                a,
-                f(4.0),
-                f(4.0),
-                f(0.5),
-                f(1.0),
-                b,
-            ],
-        );
+        draw(&mut d, RHW_D, &both);
         assert_eq!(target(&mut d).pixel(3, 3), want, "{func:?}");
     }
 }

@@ -77,7 +77,7 @@ fn draw_xyz(d: &mut TestDevice, x: f32, y: f32) {
 }
 
 /// Draws one Part A point with POINTSIZE `size` (and `setup`) at (x, 64) on a fresh device.
-fn part_a_single(size: f32, setup: impl FnOnce(&mut TestDevice), x: f32) -> RenderTarget {
+fn part_a_single(size: f32, x: f32, setup: impl FnOnce(&mut TestDevice)) -> RenderTarget {
     let mut d = part_a_device(Caps::reference());
     d.set_render_state(Rs::POINTSIZE, size);
     setup(&mut d);
@@ -97,7 +97,7 @@ fn assert_white_square(t: &RenderTarget, x0: u32, y0: u32, x1: u32, y1: u32) {
 /// passes `point_match(64, 64, 7)`: x 57..=71 (and y 57..=71) white, 56 and 72 blue.
 #[test]
 fn wine_a1_pointsize_15() {
-    let t = part_a_single(15.0, |_| {}, 64.0);
+    let t = part_a_single(15.0, 64.0, |_| {});
     assert!(point_match(&t, 64, 64, 7));
     assert_white_square(&t, 57, 57, 71, 71);
 }
@@ -106,7 +106,7 @@ fn wine_a1_pointsize_15() {
 /// passes `point_match(128, 64, 15)`: x 113..=143, y 49..=79.
 #[test]
 fn wine_a2_pointsize_31() {
-    let t = part_a_single(31.0, |_| {}, 128.0);
+    let t = part_a_single(31.0, 128.0, |_| {});
     assert!(point_match(&t, 128, 64, 15));
     assert_white_square(&t, 113, 49, 143, 79);
 }
@@ -115,7 +115,7 @@ fn wine_a2_pointsize_31() {
 /// (192, 64) passes `point_match(192, 64, 15)`, like a size-31 point: x 177..=207.
 #[test]
 fn wine_a3_pointsize_30_75() {
-    let t = part_a_single(30.75, |_| {}, 192.0);
+    let t = part_a_single(30.75, 192.0, |_| {});
     assert!(point_match(&t, 192, 64, 15));
     assert_white_square(&t, 177, 49, 207, 79);
 }
@@ -124,7 +124,7 @@ fn wine_a3_pointsize_30_75() {
 /// POINTSIZE 63 at (256, 64) passes `point_match(256, 64, 31)`: x 225..=287, y 33..=95.
 #[test]
 fn wine_a4_pointsize_63() {
-    let t = part_a_single(63.0, |_| {}, 256.0);
+    let t = part_a_single(63.0, 256.0, |_| {});
     assert!(point_match(&t, 256, 64, 31));
     assert_white_square(&t, 225, 33, 287, 95);
 }
@@ -133,7 +133,7 @@ fn wine_a4_pointsize_63() {
 /// POINTSIZE 62.75 at (384, 64) passes `point_match(384, 64, 31)`: x 353..=415, y 33..=95.
 #[test]
 fn wine_a5_pointsize_62_75() {
-    let t = part_a_single(62.75, |_| {}, 384.0);
+    let t = part_a_single(62.75, 384.0, |_| {});
     assert!(point_match(&t, 384, 64, 31));
     assert_white_square(&t, 353, 33, 415, 95);
 }
@@ -142,7 +142,7 @@ fn wine_a5_pointsize_62_75() {
 /// passes `point_match(320, 64, 0)`: exactly one pixel.
 #[test]
 fn wine_a6_pointsize_1() {
-    let t = part_a_single(1.0, |_| {}, 320.0);
+    let t = part_a_single(1.0, 320.0, |_| {});
     assert!(point_match(&t, 320, 64, 0));
     assert_white_square(&t, 320, 64, 320, 64);
 }
@@ -152,11 +152,9 @@ fn wine_a6_pointsize_1() {
 /// `point_match(448, 64, 0)`.
 #[test]
 fn wine_a7_pointsize_max_1_clamps_the_state_size() {
-    let t = part_a_single(
-        15.0,
-        |d| d.set_render_state(Rs::POINTSIZE_MAX, 1.0f32),
-        448.0,
-    );
+    let t = part_a_single(15.0, 448.0, |d| {
+        d.set_render_state(Rs::POINTSIZE_MAX, 1.0f32)
+    });
     assert!(point_match(&t, 448, 64, 0));
     assert_white_square(&t, 448, 64, 448, 64);
 }
@@ -166,11 +164,9 @@ fn wine_a7_pointsize_max_1_clamps_the_state_size() {
 /// `point_match(512, 64, 7)`: x 505..=519.
 #[test]
 fn wine_a8_pointsize_min_15_raises_the_state_size() {
-    let t = part_a_single(
-        1.0,
-        |d| d.set_render_state(Rs::POINTSIZE_MIN, 15.0f32),
-        512.0,
-    );
+    let t = part_a_single(1.0, 512.0, |d| {
+        d.set_render_state(Rs::POINTSIZE_MIN, 15.0f32)
+    });
     assert!(point_match(&t, 512, 64, 7));
     assert_white_square(&t, 505, 57, 519, 71);
 }

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use std::fmt;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use pointillist_core::device::DeviceError;
+use pointillist_core::device::{DeviceError, MAX_STAGES};
 
 use crate::exact::{ExactLayouts, ExactPipelines};
 use crate::pipeline::{ClipPlaneMethod, PipelineKey, create_pipeline};
@@ -133,6 +133,77 @@ fn classify(e: wgpu::Error) -> GpuError {
     }
 }
 
+/// A bind-group layout entry for a storage buffer.
+pub(crate) fn storage_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(
+        binding,
+        visibility,
+        wgpu::BufferBindingType::Storage { read_only },
+    )
+}
+
+/// A bind-group layout entry for a uniform buffer.
+pub(crate) fn uniform_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(binding, visibility, wgpu::BufferBindingType::Uniform)
+}
+
+fn buffer_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// Bind-group entries binding each of `buffers` whole, at bindings 0, 1, ...
+pub(crate) fn whole_buffers<'a>(buffers: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    (0u32..)
+        .zip(buffers)
+        .map(|(binding, buffer)| wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect()
+}
+
+/// The value of `key` in `cache`, or `build`'s, compiled inside an error scope and cached; a
+/// validation error names `what` and the key.
+fn cached<T: Clone>(
+    ctx: &GpuContext,
+    cache: &Mutex<HashMap<PipelineKey, T>>,
+    key: &PipelineKey,
+    what: &str,
+    build: impl FnOnce() -> T,
+) -> Result<T, GpuError> {
+    if let Some(p) = cache.lock().ok().and_then(|m| m.get(key).cloned()) {
+        return Ok(p);
+    }
+    let value = ctx.scoped(build).map_err(|e| match e {
+        GpuError::Validation(m) => GpuError::Validation(format!("{what} for {key:?}: {m}")),
+        other => other,
+    })?;
+    if let Ok(mut m) = cache.lock() {
+        m.insert(key.clone(), value.clone());
+    }
+    Ok(value)
+}
+
 impl GpuContext {
     /// Opens the best adapter wgpu finds (honouring `WGPU_BACKEND` and the other wgpu
     /// environment variables) and creates a device on it.
@@ -236,28 +307,14 @@ impl GpuContext {
         let stages =
             wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let mut entries = vec![
-            wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: stages,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
-            wgpu::BindGroupLayoutEntry {
-                binding: 1,
-                visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Storage { read_only: true },
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
+            uniform_entry(0, stages),
+            storage_entry(
+                1,
+                wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE,
+                true,
+            ),
         ];
-        for stage in 0..8 {
+        for stage in 0..MAX_STAGES as u32 {
             entries.push(wgpu::BindGroupLayoutEntry {
                 binding: 2 + stage,
                 visibility: stages,
@@ -378,22 +435,14 @@ impl GpuContext {
 
     /// The render pipeline of `key`, generated and compiled on first use.
     pub(crate) fn pipeline(&self, key: &PipelineKey) -> Result<wgpu::RenderPipeline, GpuError> {
-        if let Some(p) = self.pipelines.lock().ok().and_then(|m| m.get(key).cloned()) {
-            return Ok(p);
-        }
-        let source = shader::generate(key);
-        let pipeline = self
-            .scoped(|| create_pipeline(&self.device, &self.pipeline_layout, key, &source))
-            .map_err(|e| match e {
-                GpuError::Validation(m) => {
-                    GpuError::Validation(format!("pipeline for {key:?}: {m}"))
-                }
-                other => other,
-            })?;
-        if let Ok(mut m) = self.pipelines.lock() {
-            m.insert(key.clone(), pipeline.clone());
-        }
-        Ok(pipeline)
+        cached(self, &self.pipelines, key, "pipeline", || {
+            create_pipeline(
+                &self.device,
+                &self.pipeline_layout,
+                key,
+                &shader::generate(key),
+            )
+        })
     }
 
     pub(crate) fn exact_layouts(&self) -> &ExactLayouts {
@@ -402,27 +451,10 @@ impl GpuContext {
 
     /// The exact path's compute pipelines of `key`, generated and compiled on first use.
     pub(crate) fn exact_pipelines(&self, key: &PipelineKey) -> Result<ExactPipelines, GpuError> {
-        if let Some(p) = self
-            .exact_pipelines
-            .lock()
-            .ok()
-            .and_then(|m| m.get(key).cloned())
-        {
-            return Ok(p);
-        }
-        let source = shader::generate_compute(key);
-        let pipelines = self
-            .scoped(|| self.exact.create_pipelines(&self.device, &source))
-            .map_err(|e| match e {
-                GpuError::Validation(m) => {
-                    GpuError::Validation(format!("exact path for {key:?}: {m}"))
-                }
-                other => other,
-            })?;
-        if let Ok(mut m) = self.exact_pipelines.lock() {
-            m.insert(key.clone(), pipelines.clone());
-        }
-        Ok(pipelines)
+        cached(self, &self.exact_pipelines, key, "exact path", || {
+            self.exact
+                .create_pipelines(&self.device, &shader::generate_compute(key))
+        })
     }
 
     /// Number of pipelines compiled so far.

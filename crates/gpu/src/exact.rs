@@ -3,9 +3,9 @@
 //!
 //! Contract:
 //! - A GPU's fixed-function blender rounds each blend to 8 bits on its own terms (lavapipe
-//!   rounds the two products separately: 1/255 off in a quarter of the channels of one
-//!   SRCALPHA/INVSRCALPHA blend), and every later blend of the same pixel carries the
-//!   difference on: 13/255 in a pile of smoke particles. [`needs_exact`] picks the draws where
+//!   rounds the two products separately, so one SRCALPHA/INVSRCALPHA blend can be 1/255 off),
+//!   and every later blend of the same pixel carries the difference on, so piles of translucent
+//!   sprites drift further (the README's "Differences"). [`needs_exact`] picks the draws where
 //!   that can happen; [`draw`] renders them with core's arithmetic instead (the per-point stage,
 //!   the cascade, alpha test, depth test and write, `pixel::blend`, the write mask), so they
 //!   match the CPU backend as exactly as the other draws do.
@@ -22,15 +22,15 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::pixel::BlendSetup;
 use pointillist_core::states::{Blend, BlendOp};
 
-use crate::context::{GpuContext, GpuError};
+use crate::context::{GpuContext, GpuError, storage_entry, uniform_entry, whole_buffers};
 use crate::pipeline::TargetDesc;
-use crate::renderer::PointRenderer;
+use crate::renderer::{PointRenderer, loaded_depth};
 use crate::shader;
 
-/// Tile side of `cs_tiles`.
-const TILE: u32 = 16;
+/// Tile side of `cs_tiles` (its workgroup is TILE x TILE invocations, one per pixel).
+pub(crate) const TILE: u32 = 16;
 /// Workgroup size of `cs_points`.
-const POINTS_PER_GROUP: u32 = 64;
+pub(crate) const POINTS_PER_GROUP: u32 = 64;
 
 /// Copies the depth buffer of the exact path into the depth texture.
 const DEPTH_WRITER: &str = "
@@ -53,8 +53,8 @@ fn fs(@builtin(position) pos: vec4f) -> @builtin(frag_depth) f32 {
 /// True when the exact path can hold a `width` x `height` target: its colour and depth
 /// buffers fit a storage binding of the device.
 pub(crate) fn fits(ctx: &GpuContext, width: u32, height: u32) -> bool {
-    let pitch = u64::from((width * 4).div_ceil(256) * 256);
-    pitch * u64::from(height) <= ctx.limits().max_storage_buffer_binding_size
+    u64::from(crate::copy_pitch(width)) * u64::from(height)
+        <= ctx.limits().max_storage_buffer_binding_size
 }
 
 /// True when blending `b` in fixed function could round differently from core's `blend`: a
@@ -81,36 +81,6 @@ pub(crate) struct ExactPipelines {
     tiles: wgpu::ComputePipeline,
 }
 
-fn storage(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    read_only: bool,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 impl ExactLayouts {
     /// Layouts on `device`; `draw_layout` is group 0 of every point pipeline.
     pub(crate) fn new(device: &wgpu::Device, draw_layout: &wgpu::BindGroupLayout) -> ExactLayouts {
@@ -118,10 +88,10 @@ impl ExactLayouts {
         let target_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("pointillist exact target"),
             entries: &[
-                uniform(0, compute),
-                storage(1, compute, false),
-                storage(2, compute, false),
-                storage(3, compute, false),
+                uniform_entry(0, compute),
+                storage_entry(1, compute, false),
+                storage_entry(2, compute, false),
+                storage_entry(3, compute, false),
             ],
         });
         let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -132,7 +102,7 @@ impl ExactLayouts {
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("pointillist depth writer"),
-            entries: &[uniform(0, fragment), storage(1, fragment, true)],
+            entries: &[uniform_entry(0, fragment), storage_entry(1, fragment, true)],
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("pointillist depth writer"),
@@ -213,7 +183,7 @@ pub(crate) struct ExactTarget {
 
 impl ExactTarget {
     fn new(ctx: &GpuContext, width: u32, height: u32) -> ExactTarget {
-        let pitch = (width * 4).div_ceil(256) * 64;
+        let pitch = crate::copy_pitch(width) / 4;
         let plane = |label| {
             ctx.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -285,8 +255,8 @@ pub(crate) fn draw(
     };
     let stride = fvf.stride();
     let limits = ctx.limits();
-    // Records of at most 16 + 8 + 18 words; a batch fits the bindings and one dispatch.
-    let record_bytes = 4 * 42;
+    // A batch of the largest records fits the bindings and one dispatch.
+    let record_bytes = 4 * u64::from(shader::MAX_RECORD_WORDS);
     let batch = (renderer.max_points(fvf) as u64)
         .min(limits.max_storage_buffer_binding_size / record_bytes)
         .min(u64::from(limits.max_compute_workgroups_per_dimension) * u64::from(POINTS_PER_GROUP))
@@ -307,24 +277,7 @@ pub(crate) fn draw(
             let bind_group = ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("pointillist exact target"),
                 layout: &layouts.target_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: ex.params.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: records.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: ex.color.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: ex.depth.as_entire_binding(),
-                    },
-                ],
+                entries: &whole_buffers(&[&ex.params, &records, &ex.color, &ex.depth]),
             });
             let mut encoder =
                 ctx.device()
@@ -387,28 +340,12 @@ pub(crate) fn draw(
                 let depth_group = ctx.device().create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("pointillist depth writer"),
                     layout: &layouts.depth_layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: ex.params.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: ex.depth.as_entire_binding(),
-                        },
-                    ],
+                    entries: &whole_buffers(&[&ex.params, &ex.depth]),
                 });
                 let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("pointillist depth writer"),
                     color_attachments: &[],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: target.depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
+                    depth_stencil_attachment: Some(loaded_depth(target.depth_view)),
                     timestamp_writes: None,
                     occlusion_query_set: None,
                     multiview_mask: None,

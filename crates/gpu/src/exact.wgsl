@@ -2,16 +2,16 @@
 //
 // Contract:
 // - Appended after `points.wgsl` in compute modules; the generated header supplies the record
-//   layout constants (REC_WORDS, REC_LODS, REC_PLANES, SPRITE_PLANES), `record_point` (the
+//   layout constants (REC_WORDS, REC_LODS, REC_PLANES, SPRITE_PLANES), the workgroup sizes
+//   (TILE, POINTS_PER_GROUP, from `exact.rs`), `record_point` (the
 //   per-point stage and, for flat points, the cascade: core's `PointSetup::process` and
 //   `fill_flat`), `pixel_color` (per-pixel shading of a sprite: core's `fill_sprite`),
 //   `depth_passes` and `blend_colors` (core's `compare` and `pixel::blend`, with the write mask).
 // - `cs_points` writes one record per point; `cs_tiles` runs one invocation per pixel of a
-//   16x16 tile, walks the draw's points in vertex order (256 at a time: each invocation tests
-//   one point against the tile, a bit mask keeps the touching ones, in order), and applies, for
-//   every point covering
-//   its pixel, alpha test, depth test and write, blend and write mask (core's `write_pixel`) in
-//   registers. A pixel belongs to one invocation, so points blend one after another exactly as
+//   TILE x TILE tile, walks the draw's points in vertex order (BATCH at a time: each invocation
+//   tests one point against the tile, a bit mask keeps the touching ones, in order), and
+//   applies, for every point covering its pixel, alpha test, depth test and write, blend and
+//   write mask (core's `write_pixel`) in registers. A pixel belongs to one invocation, so points blend one after another exactly as
 //   on the CPU, whatever their overlap, with core's f32 arithmetic and 8-bit rounding.
 // - The target's colour (D3DCOLOR) and depth live in storage buffers with rows `pitch` words
 //   apart while the pass runs; the backend copies them from and back to its textures.
@@ -63,18 +63,20 @@ fn write_record(index: u32, p: Point, color: u32) {
     RECS[at + 9u] = bitcast<u32>(p.size);
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(POINTS_PER_GROUP)
 fn cs_points(@builtin(global_invocation_id) gid: vec3u) {
     if gid.x < X.count {
         record_point(gid.x);
     }
 }
 
-const TILE: u32 = 16u;
+// Points per batch of `cs_tiles`: one per invocation.
+const BATCH: u32 = TILE * TILE;
+const MASK_WORDS: u32 = BATCH / 32u;
 
-// Which of a batch's 256 points touch the tile: a 256-bit mask, triple-buffered so that one
+// Which of a batch's points touch the tile: a BATCH-bit mask, triple-buffered so that one
 // barrier per batch separates setting, reading and clearing.
-var<workgroup> masks: array<array<atomic<u32>, 8>, 3>;
+var<workgroup> masks: array<array<atomic<u32>, MASK_WORDS>, 3>;
 
 // core `write_pixel` after shading: depth test and write (SPEC 5.4), blend (5.5), mask (5.6).
 fn apply(index: u32, i: i32, j: i32, color: ptr<function, u32>, depth: ptr<function, f32>) {
@@ -112,7 +114,7 @@ fn apply(index: u32, i: i32, j: i32, color: ptr<function, u32>, depth: ptr<funct
     *color = (blend_colors(src, old) & WRITE_MASK) | (old & ~WRITE_MASK);
 }
 
-@compute @workgroup_size(16, 16)
+@compute @workgroup_size(TILE, TILE)
 fn cs_tiles(
     @builtin(workgroup_id) wg: vec3u,
     @builtin(local_invocation_id) lid: vec3u,
@@ -130,10 +132,10 @@ fn cs_tiles(
         color = COLOR[at_pixel];
         depth = DEPTH[at_pixel];
     }
-    let batches = (X.count + 255u) / 256u;
+    let batches = (X.count + BATCH - 1u) / BATCH;
     for (var b = 0u; b < batches; b++) {
         let m = b % 3u;
-        let index = b * 256u + li;
+        let index = b * BATCH + li;
         if index < X.count {
             let r = rec_rect(index);
             if r.x < r.z && r.x < tile.z && r.z > tile.x && r.y < tile.w && r.w > tile.y {
@@ -142,15 +144,15 @@ fn cs_tiles(
         }
         workgroupBarrier();
         // The mask two batches ahead was last read in the previous batch, before this barrier.
-        if li < 8u {
+        if li < MASK_WORDS {
             atomicStore(&masks[(b + 2u) % 3u][li], 0u);
         }
         if inside {
             // The touching points in vertex order: the mask's bits from the lowest.
-            for (var w = 0u; w < 8u; w++) {
+            for (var w = 0u; w < MASK_WORDS; w++) {
                 var bits = atomicLoad(&masks[m][w]);
                 while bits != 0u {
-                    apply(b * 256u + w * 32u + firstTrailingBit(bits), i, j, &color, &depth);
+                    apply(b * BATCH + w * 32u + firstTrailingBit(bits), i, j, &color, &depth);
                     bits &= bits - 1u;
                 }
             }

@@ -81,6 +81,12 @@ pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Bgra8Unorm;
 /// The depth format of [`GpuBackend`]'s target.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// Bytes per row of a `width`-pixel, 4-byte-texel texture in a buffer copy (rows aligned to
+/// `wgpu::COPY_BYTES_PER_ROW_ALIGNMENT`).
+pub(crate) fn copy_pitch(width: u32) -> u32 {
+    (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+}
+
 /// pointillist's own render target on the GPU.
 struct Target {
     desc: TargetDesc,
@@ -199,9 +205,8 @@ impl GpuBackend {
         let t = self.target()?;
         let ctx = self.renderer.context();
         let (w, h) = (t.desc.width, t.desc.height);
-        let row = u64::from(w) * 4;
-        let padded = row.div_ceil(256) * 256;
-        let plane = padded * u64::from(h);
+        let padded = copy_pitch(w);
+        let plane = u64::from(padded) * u64::from(h);
         let buffer = ctx.scoped(|| {
             let buffer = ctx.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("pointillist readback"),
@@ -234,7 +239,7 @@ impl GpuBackend {
                         buffer: &buffer,
                         layout: wgpu::TexelCopyBufferLayout {
                             offset,
-                            bytes_per_row: Some(padded as u32),
+                            bytes_per_row: Some(padded),
                             rows_per_image: Some(h),
                         },
                     },
@@ -250,32 +255,26 @@ impl GpuBackend {
         });
         ctx.map_wait(&receiver)?
             .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let mut out = RenderTarget {
-            width: w,
-            height: h,
-            color: Vec::with_capacity(w as usize * h as usize),
-            depth: Vec::with_capacity(w as usize * h as usize),
-        };
-        {
+        let out = {
             let view = buffer
                 .get_mapped_range(..)
                 .map_err(|e| GpuError::Readback(e.to_string()))?;
-            let word = |at: usize| {
-                u32::from_le_bytes([view[at], view[at + 1], view[at + 2], view[at + 3]])
+            let bytes: &[u8] = &view;
+            // The plane at `base`, row by row, as little-endian words.
+            let words = |base: usize| {
+                (0..h as usize).flat_map(move |y| {
+                    bytes[base + y * padded as usize..][..w as usize * 4]
+                        .chunks_exact(4)
+                        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                })
             };
-            for y in 0..h as usize {
-                let start = y * padded as usize;
-                for x in 0..w as usize {
-                    out.color.push(word(start + x * 4));
-                }
+            RenderTarget {
+                width: w,
+                height: h,
+                color: words(0).collect(),
+                depth: words(plane as usize).map(f32::from_bits).collect(),
             }
-            for y in 0..h as usize {
-                let start = plane as usize + y * padded as usize;
-                for x in 0..w as usize {
-                    out.depth.push(f32::from_bits(word(start + x * 4)));
-                }
-            }
-        }
+        };
         buffer.unmap();
         Ok(out)
     }

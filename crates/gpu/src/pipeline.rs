@@ -18,7 +18,7 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::pixel::{BlendSetup, PixelSetup, StageSetup, dest_factor};
 use pointillist_core::point::PointSetup;
 use pointillist_core::states::{Blend, BlendOp, Cmp, TextureFilter, TextureOp};
-use pointillist_core::texture::SamplerDesc;
+use pointillist_core::texture::{SamplerDesc, is_linear};
 
 /// The formats of the attachments a draw renders into.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
@@ -52,12 +52,11 @@ pub(crate) struct SamplerKey {
 
 impl SamplerKey {
     fn new(s: &SamplerDesc) -> SamplerKey {
-        let linear = |f: TextureFilter| !matches!(f, TextureFilter::None | TextureFilter::Point);
         SamplerKey {
             address_u: s.address_u as u32,
             address_v: s.address_v as u32,
-            mag_linear: linear(s.mag),
-            min_linear: linear(s.min),
+            mag_linear: is_linear(s.mag),
+            min_linear: is_linear(s.min),
             mip: match s.mip {
                 TextureFilter::None => 0,
                 TextureFilter::Point => 1,

@@ -24,15 +24,18 @@ struct Uniforms {
     world: array<vec4f, 4>,
     // D3D viewport: x, y, width, height in pixels.
     viewport: vec4f,
-    // min_z, max_z, 2 / viewport width, 2 / viewport height.
+    // min_z, max_z, unused, unused.
     depth: vec4f,
+    // core PointSetup::clip_user_planes' per-draw terms: sx = 2 / viewport width,
+    // sy = 2 / viewport height, -x * sx - 1, 1 + y * sy.
+    plane_steps: vec4f,
     // POINTSIZE, clamp bounds lo and hi (core::point::clamp_bounds), unused.
     size: vec4f,
     // POINTSCALE_A, _B, _C, Vh (SPEC 2.2).
     scale: vec4f,
     // The viewport as pixel indices: x0, y0, x1, y1 (half-open).
     vp_rect: vec4i,
-    // 2 / target width, 2 / target height, target width, target height.
+    // 2 / target width, 2 / target height, unused, unused.
     screen: vec4f,
     // ALPHAREF (8 bits), CLIPPING, unused, unused.
     misc: vec4u,
@@ -179,13 +182,11 @@ fn plane_keeps(pl: vec3f, i: f32, j: f32) -> bool {
 // keeps the whole square, or `none` (a NaN marker) when it drops the point.
 fn pixel_plane(pl: vec4f, p: Point) -> vec4f {
     let w = p.clip.w;
-    let sx = U.depth.z;
-    let sy = U.depth.w;
+    let s = U.plane_steps;
     let c = vec3f(
-        pl.x * w * (-U.viewport.x * sx - 1.0) + pl.y * w * (1.0 + U.viewport.y * sy)
-            + pl.z * p.clip.z + pl.w * w,
-        pl.x * w * sx,
-        -pl.y * w * sy,
+        pl.x * w * s.z + pl.y * w * s.w + pl.z * p.clip.z + pl.w * w,
+        pl.x * w * s.x,
+        -pl.y * w * s.y,
     );
     let r = vec4f(p.rect);
     let k00 = plane_keeps(c, r.x, r.y);
@@ -261,7 +262,7 @@ fn point_stage(index: u32) -> Point {
     if p.rect.x >= p.rect.z || p.rect.y >= p.rect.w {
         return dropped();
     }
-    p.diffuse = 0xffffffffu; // SPEC 4.2 defaults
+    p.diffuse = WHITE; // SPEC 4.2 defaults
     if HAS_DIFFUSE {
         p.diffuse = word(base + DIFFUSE_AT);
     }
@@ -300,18 +301,12 @@ fn vertex_coords(index: u32, stage: u32) -> vec2f {
 
 // ---- the reference sampler (core::texture::Texture::sample, SPEC 5.2) ----
 
-// D3DTADDRESS values (TextureAddress as u32).
-const WRAP: u32 = 1u;
-const MIRROR: u32 = 2u;
-const CLAMP: u32 = 3u;
-const BORDER: u32 = 4u;
-
-// Coordinates beyond 2^20 are clamped first (core texture::COORD_LIMIT), NaN counts as 0.
+// Coordinates beyond COORD_LIMIT (core texture::COORD_LIMIT) are clamped first, NaN counts as 0.
 fn sanitize(u: f32) -> f32 {
     if is_nan(u) {
         return 0.0;
     }
-    return clamp(u, -1048576.0, 1048576.0);
+    return clamp(u, -COORD_LIMIT, COORD_LIMIT);
 }
 
 // Euclidean remainder of the integer-valued float `k` by `n` (n <= 2^15), exact for every
@@ -344,7 +339,7 @@ fn address(mode: u32, k: f32, n: i32) -> i32 {
     if mode == BORDER {
         return select(ki, -1, ki < 0 || ki >= n);
     }
-    // MIRRORONCE
+    // MIRROR_ONCE
     return clamp(select(ki, -ki - 1, ki < 0), 0, n - 1);
 }
 

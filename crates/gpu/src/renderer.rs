@@ -398,16 +398,7 @@ impl PointRenderer {
                                 store: wgpu::StoreOp::Store,
                             },
                         })],
-                        depth_stencil_attachment: depth.map(|view| {
-                            wgpu::RenderPassDepthStencilAttachment {
-                                view,
-                                depth_ops: Some(wgpu::Operations {
-                                    load: wgpu::LoadOp::Load,
-                                    store: wgpu::StoreOp::Store,
-                                }),
-                                stencil_ops: None,
-                            }
-                        }),
+                        depth_stencil_attachment: depth.map(loaded_depth),
                         timestamp_writes: None,
                         occlusion_query_set: None,
                         multiview_mask: None,
@@ -418,6 +409,18 @@ impl PointRenderer {
             })?;
         }
         Ok(())
+    }
+}
+
+/// A depth attachment whose contents are loaded and stored.
+pub(crate) fn loaded_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Load,
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
     }
 }
 

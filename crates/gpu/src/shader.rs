@@ -17,9 +17,14 @@ use std::fmt::Write;
 
 use pointillist_core::states::{
     Blend, BlendOp, Cmp, TA_ALPHAREPLICATE, TA_COMPLEMENT, TA_CONSTANT, TA_CURRENT, TA_DIFFUSE,
-    TA_SELECTMASK, TA_SPECULAR, TA_TEMP, TA_TEXTURE, TA_TFACTOR, TextureOp,
+    TA_SELECTMASK, TA_SPECULAR, TA_TEMP, TA_TEXTURE, TA_TFACTOR, TextureAddress, TextureOp,
 };
 
+use pointillist_core::color::WHITE;
+use pointillist_core::device::{MAX_CLIP_PLANES, MAX_STAGES};
+use pointillist_core::texture::COORD_LIMIT;
+
+use crate::exact::{POINTS_PER_GROUP, TILE};
 use crate::pipeline::{PipelineKey, StageKey};
 
 /// The fixed part of every shader.
@@ -193,39 +198,33 @@ fn gen_shade(key: &PipelineKey, out: &mut String) {
     out.push_str("    return current;\n}\n\n");
 }
 
-/// The alpha test on the quantised 8-bit alpha against ALPHAREF (SPEC 5.3, core `compare`).
-fn gen_alpha_test(key: &PipelineKey, out: &mut String) {
-    let body = match key.alpha_test {
-        None | Some(Cmp::Always) => "true",
-        Some(Cmp::Never) => "false",
-        Some(Cmp::Less) => "a < U.misc.x",
-        Some(Cmp::Equal) => "a == U.misc.x",
-        Some(Cmp::LessEqual) => "a <= U.misc.x",
-        Some(Cmp::Greater) => "a > U.misc.x",
-        Some(Cmp::NotEqual) => "a != U.misc.x",
-        Some(Cmp::GreaterEqual) => "a >= U.misc.x",
+/// core `compare(func, a, b)` as a WGSL expression; no test (`None`) passes.
+fn compare_expr(func: Option<Cmp>, a: &str, b: &str) -> String {
+    let op = match func {
+        None | Some(Cmp::Always) => return "true".to_string(),
+        Some(Cmp::Never) => return "false".to_string(),
+        Some(Cmp::Less) => "<",
+        Some(Cmp::Equal) => "==",
+        Some(Cmp::LessEqual) => "<=",
+        Some(Cmp::Greater) => ">",
+        Some(Cmp::NotEqual) => "!=",
+        Some(Cmp::GreaterEqual) => ">=",
     };
-    let _ = writeln!(
-        out,
-        "fn alpha_passes(a: u32) -> bool {{\n    return {body};\n}}\n"
-    );
+    format!("{a} {op} {b}")
 }
 
-/// core `compare(func, z, stored)` for the depth test (SPEC 5.4), used by the exact path.
-fn gen_depth_test(key: &PipelineKey, out: &mut String) {
-    let body = match key.depth.map(|(func, _)| func) {
-        None | Some(Cmp::Always) => "true",
-        Some(Cmp::Never) => "false",
-        Some(Cmp::Less) => "z < stored",
-        Some(Cmp::Equal) => "z == stored",
-        Some(Cmp::LessEqual) => "z <= stored",
-        Some(Cmp::Greater) => "z > stored",
-        Some(Cmp::NotEqual) => "z != stored",
-        Some(Cmp::GreaterEqual) => "z >= stored",
-    };
+/// The alpha test on the quantised 8-bit alpha against ALPHAREF (SPEC 5.3) and the depth test
+/// used by the exact path (SPEC 5.4), both core `compare`.
+fn gen_tests(key: &PipelineKey, out: &mut String) {
     let _ = writeln!(
         out,
-        "fn depth_passes(z: f32, stored: f32) -> bool {{\n    return {body};\n}}\n"
+        "fn alpha_passes(a: u32) -> bool {{\n    return {};\n}}\n",
+        compare_expr(key.alpha_test, "a", "U.misc.x")
+    );
+    let _ = writeln!(
+        out,
+        "fn depth_passes(z: f32, stored: f32) -> bool {{\n    return {};\n}}\n",
+        compare_expr(key.depth.map(|(func, _)| func), "z", "stored")
     );
 }
 
@@ -288,10 +287,46 @@ fn gen_blend(key: &PipelineKey, out: &mut String) {
     out.push_str("}\n\n");
 }
 
-/// Words per point record of the exact path: rectangle, z, two colours, left, top, S, a LOD per
-/// sampling stage, three words per per-pixel clip plane (see `exact.wgsl`).
+/// The per-point part shared by the vertex shader and the exact path's `record_point`: the
+/// per-point stage of point `index` (core `PointSetup::process`), its pixel planes `pl<k>`
+/// (SPEC 3.3) and, for flat points, the shaded, quantised and alpha-tested colour `q` (core
+/// `fill_flat`: each stage samples at the vertex's coordinates, magnified). `drop` ends the
+/// function for a dropped point.
+fn gen_point(key: &PipelineKey, drop: &str, out: &mut String) {
+    let _ = writeln!(
+        out,
+        "    let p = point_stage(index);\n    if !p.keep {{\n        {drop}\n    }}"
+    );
+    for k in 0..scaled_planes(key) {
+        let _ = writeln!(
+            out,
+            "    let pl{k} = pixel_plane(U.planes[{k}], p);\n    if pl{k}.w == 0.0 {{\n        {drop}\n    }}"
+        );
+    }
+    if key.flat {
+        let mut args = String::from("unpack_color(p.diffuse), unpack_color(p.specular)");
+        for i in sampling_stages(key) {
+            let _ = write!(args, ", vertex_coords(index, {i}u), -1.0e30");
+        }
+        let _ = writeln!(
+            out,
+            "    let q = quantize(shade({args}));\n    if !alpha_passes(q.a) {{\n        {drop}\n    }}"
+        );
+    }
+}
+
+/// Words of every point record of the exact path: rectangle, z, two colours, left, top, S
+/// (see `exact.wgsl`'s `write_record`).
+const RECORD_FIXED_WORDS: usize = 10;
+
+/// Words of the largest record: a LOD for every stage, every clip plane tested per pixel.
+pub(crate) const MAX_RECORD_WORDS: u32 =
+    (RECORD_FIXED_WORDS + MAX_STAGES + 3 * MAX_CLIP_PLANES) as u32;
+
+/// Words per point record of the exact path: the fixed words, a LOD per sampling stage, three
+/// words per per-pixel clip plane.
 pub(crate) fn record_words(key: &PipelineKey) -> u32 {
-    (10 + sampling_stages(key).len() + 3 * scaled_planes(key)) as u32
+    (RECORD_FIXED_WORDS + sampling_stages(key).len() + 3 * scaled_planes(key)) as u32
 }
 
 /// Generates the compute module of the exact path for `key`: entry points `cs_points` (one
@@ -301,32 +336,25 @@ pub(crate) fn generate_compute(key: &PipelineKey) -> String {
     header(key, &mut out);
     let sampling = sampling_stages(key);
     let planes = scaled_planes(key);
-    let lods = 10;
-    let _ = writeln!(out, "const REC_LODS: u32 = {lods}u;");
-    let _ = writeln!(out, "const REC_PLANES: u32 = {}u;", lods + sampling.len());
-    let _ = writeln!(out, "const REC_WORDS: u32 = {}u;\n", record_words(key));
+    let _ = writeln!(out, "const REC_LODS: u32 = {RECORD_FIXED_WORDS}u;");
+    let _ = writeln!(
+        out,
+        "const REC_PLANES: u32 = {}u;",
+        RECORD_FIXED_WORDS + sampling.len()
+    );
+    let _ = writeln!(out, "const REC_WORDS: u32 = {}u;", record_words(key));
+    let _ = writeln!(out, "const TILE: u32 = {TILE}u;");
+    let _ = writeln!(out, "const POINTS_PER_GROUP: u32 = {POINTS_PER_GROUP}u;\n");
 
     // record_point: core PointSetup::process, and fill_flat's shading for flat points.
-    out.push_str("fn record_point(index: u32) {\n    let p = point_stage(index);\n");
-    out.push_str("    if !p.keep {\n        drop_record(index);\n        return;\n    }\n");
-    for k in 0..planes {
-        let _ = writeln!(
-            out,
-            "    let pl{k} = pixel_plane(U.planes[{k}], p);\n    if pl{k}.w == 0.0 {{\n        drop_record(index);\n        return;\n    }}"
-        );
-    }
-    out.push_str("    var color = p.diffuse;\n");
-    if key.flat {
-        let mut args = String::from("unpack_color(p.diffuse), unpack_color(p.specular)");
-        for &i in &sampling {
-            let _ = write!(args, ", vertex_coords(index, {i}u), -1.0e30");
-        }
-        let _ = writeln!(out, "    let q = quantize(shade({args}));");
-        out.push_str(
-            "    if !alpha_passes(q.a) {\n        drop_record(index);\n        return;\n    }\n",
-        );
-        out.push_str("    color = pack_color(q);\n");
-    }
+    out.push_str("fn record_point(index: u32) {\n");
+    gen_point(key, "drop_record(index);\n        return;", &mut out);
+    let color = if key.flat {
+        "pack_color(q)"
+    } else {
+        "p.diffuse"
+    };
+    let _ = writeln!(out, "    let color = {color};");
     out.push_str("    write_record(index, p, color);\n    let at = index * REC_WORDS;\n");
     if !key.flat {
         for (n, &i) in sampling.iter().enumerate() {
@@ -376,8 +404,18 @@ fn header(key: &PipelineKey, out: &mut String) {
     let word = |offset: Option<usize>| offset.map_or(0, |o| o / 4);
     let _ = writeln!(out, "// generated for {key:?}");
     let depth = key.depth;
-    let consts: [(&str, &str, String); 19] = [
+    let address = |mode: TextureAddress| format!("{}u", mode as u32);
+    let consts: [(&str, &str, String); 25] = [
         ("INV255", "f32", f32_literal(1.0 / 255.0)),
+        // SPEC 5.2: texture coordinates are clamped to this magnitude before scaling.
+        ("COORD_LIMIT", "f32", f32_literal(COORD_LIMIT)),
+        // SPEC 4.2: DIFFUSE of a vertex without one.
+        ("WHITE", "u32", format!("{WHITE:#010x}u")),
+        // The D3DTADDRESS values `sample_tex` receives (MIRRORONCE is every other value).
+        ("WRAP", "u32", address(TextureAddress::Wrap)),
+        ("MIRROR", "u32", address(TextureAddress::Mirror)),
+        ("CLAMP", "u32", address(TextureAddress::Clamp)),
+        ("BORDER", "u32", address(TextureAddress::Border)),
         (
             "PRETRANSFORMED",
             "bool",
@@ -414,8 +452,7 @@ fn header(key: &PipelineKey, out: &mut String) {
     }
     out.push('\n');
     gen_shade(key, out);
-    gen_alpha_test(key, out);
-    gen_depth_test(key, out);
+    gen_tests(key, out);
     gen_blend(key, out);
 }
 
@@ -432,7 +469,7 @@ fn scaled_planes(key: &PipelineKey) -> usize {
 pub(crate) fn generate(key: &PipelineKey) -> String {
     let mut out = String::new();
     let clip_distances = key.uses_clip_distances();
-    let discard_planes = key.scaled_planes && key.plane_count > 0 && !clip_distances;
+    let discard_planes = scaled_planes(key) > 0 && !clip_distances;
     if clip_distances {
         out.push_str("enable clip_distances;\n\n");
     }
@@ -442,16 +479,16 @@ pub(crate) fn generate(key: &PipelineKey) -> String {
     let sampling = sampling_stages(key);
     let scaled_count = scaled_planes(key);
     // The fragment input is the vertex output without the clip distances.
-    let before_struct = std::mem::take(&mut out);
-    out.push_str("    @builtin(position) position: vec4f,\n");
+    let mut fields = String::new();
+    fields.push_str("    @builtin(position) position: vec4f,\n");
     if key.flat {
-        out.push_str("    @location(0) @interpolate(flat) color: u32,\n");
+        fields.push_str("    @location(0) @interpolate(flat) color: u32,\n");
     } else {
-        out.push_str("    @location(0) @interpolate(flat) square: vec3f,\n");
-        out.push_str("    @location(1) @interpolate(flat) colors: vec2u,\n");
-        for (slot, _) in sampling.chunks(4).enumerate() {
+        fields.push_str("    @location(0) @interpolate(flat) square: vec3f,\n");
+        fields.push_str("    @location(1) @interpolate(flat) colors: vec2u,\n");
+        for slot in 0..sampling.len().div_ceil(4) {
             let _ = writeln!(
-                out,
+                fields,
                 "    @location({}) @interpolate(flat) lods{slot}: vec4f,",
                 2 + slot
             );
@@ -460,14 +497,12 @@ pub(crate) fn generate(key: &PipelineKey) -> String {
     if discard_planes {
         for k in 0..scaled_count {
             let _ = writeln!(
-                out,
+                fields,
                 "    @location({}) @interpolate(flat) plane{k}: vec3f,",
                 4 + k
             );
         }
     }
-    let fields = std::mem::take(&mut out);
-    out = before_struct;
     let _ = write!(
         out,
         "struct FsIn {{\n{fields}}}\n\nstruct VsOut {{\n{fields}"
@@ -485,25 +520,10 @@ pub(crate) fn generate(key: &PipelineKey) -> String {
         "@vertex\nfn vs_main(@builtin(vertex_index) vi: u32) -> VsOut {\n\
          \x20   var out: VsOut;\n\
          \x20   out.position = vec4f(-2.0, -2.0, 0.0, 1.0); // dropped: a degenerate quad\n\
-         \x20   let index = vi >> 2u;\n\
-         \x20   let p = point_stage(index);\n\
-         \x20   if !p.keep {\n        return out;\n    }\n",
+         \x20   let index = vi >> 2u;\n",
     );
-    for k in 0..scaled_count {
-        let _ = writeln!(
-            out,
-            "    let pl{k} = pixel_plane(U.planes[{k}], p);\n    if pl{k}.w == 0.0 {{\n        return out;\n    }}"
-        );
-    }
+    gen_point(key, "return out;", &mut out);
     if key.flat {
-        // SPEC 4.3 without sprite coordinates: each stage samples at the vertex's coordinates,
-        // magnified (core fill_flat).
-        let mut args = String::from("unpack_color(p.diffuse), unpack_color(p.specular)");
-        for &i in &sampling {
-            let _ = write!(args, ", vertex_coords(index, {i}u), -1.0e30");
-        }
-        let _ = writeln!(out, "    let q = quantize(shade({args}));");
-        out.push_str("    if !alpha_passes(q.a) {\n        return out;\n    }\n");
         out.push_str("    out.color = pack_color(q);\n");
     } else {
         out.push_str("    out.square = vec3f(p.left, p.top, p.size);\n");
@@ -561,7 +581,7 @@ pub(crate) fn generate(key: &PipelineKey) -> String {
             "    let uv = vec2f((i - in.square.x) / in.square.z, (j - in.square.y) / in.square.z);\n",
         );
         let mut args = String::from("unpack_color(in.colors.x), unpack_color(in.colors.y)");
-        for (n, &_i) in sampling.iter().enumerate() {
+        for n in 0..sampling.len() {
             let comp = ["x", "y", "z", "w"][n % 4];
             let _ = write!(args, ", uv, in.lods{}.{comp}", n / 4);
         }

@@ -4,18 +4,20 @@
 //! every member a 16-byte slot, in declaration order. Every number comes from core:
 //! `PointSetup` (matrices, viewport, sizes and clamp bounds, scale terms, clip planes already
 //! carried into clip space), `PixelSetup` (TEXTUREFACTOR, stage constants, ALPHAREF) and
-//! `SamplerDesc` (border colour, LOD bias, MAXMIPLEVEL). Per-draw constants the shader divides
-//! by are divided here, on the CPU, with core's expressions, so they are correctly rounded.
+//! `SamplerDesc` (border colour, LOD bias, MAXMIPLEVEL). Per-draw constants the shader would
+//! compute per point (`2 / viewport width`, the pixel-plane terms, ...) are computed here, on the
+//! CPU, with core's expressions, so they are correctly rounded and never contracted.
 
-use pointillist_core::device::{DeviceState, MAX_STAGES};
+use pointillist_core::device::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::pixel::PixelSetup;
 use pointillist_core::point::PointSetup;
 use pointillist_core::texture::SamplerDesc;
 
-/// 16-byte slots in the block.
-const SLOTS: usize = 12 + 8 + 8 + 8 + 8 + 6 + 2;
+/// 16-byte slots in the block: three matrices, nine single slots, three per-stage arrays, the
+/// clip planes, the cascade constants and BLENDFACTOR.
+const SLOTS: usize = 3 * 4 + 9 + 3 * MAX_STAGES + MAX_CLIP_PLANES + 2;
 
 /// Size of the uniform block in bytes.
 pub(crate) const UNIFORM_SIZE: u64 = (SLOTS * 16) as u64;
@@ -57,25 +59,16 @@ impl Uniforms {
         u.mat(points.world());
         let vp = points.viewport();
         u.f4([vp.x as f32, vp.y as f32, vp.width as f32, vp.height as f32]);
-        // The pixel-plane steps of core's clip_user_planes.
-        u.f4([
-            vp.min_z,
-            vp.max_z,
-            2.0 / vp.width as f32,
-            2.0 / vp.height as f32,
-        ]);
+        u.f4([vp.min_z, vp.max_z, 0.0, 0.0]);
+        // The per-draw terms of core's clip_user_planes.
+        u.f4(points.pixel_plane_steps());
         let (lo, hi) = points.size_bounds();
         u.f4([points.point_size(), lo, hi, 0.0]);
         let scale = points.scale().copied();
         u.f4(scale.map_or([0.0; 4], |s| [s.a, s.b, s.c, s.viewport_height]));
         let r = points.viewport_rect();
         u.u4([r.x0, r.y0, r.x1, r.y1].map(|v| v as u32));
-        u.f4([
-            2.0 / width as f32,
-            2.0 / height as f32,
-            width as f32,
-            height as f32,
-        ]);
+        u.f4([2.0 / width as f32, 2.0 / height as f32, 0.0, 0.0]);
         u.u4([
             pixel
                 .alpha_test
@@ -105,7 +98,7 @@ impl Uniforms {
             u.f4([s.mip_lod_bias, 0.0, 0.0, 0.0]);
         }
         let planes = points.user_planes();
-        for k in 0..6 {
+        for k in 0..MAX_CLIP_PLANES {
             u.f4(planes.get(k).copied().unwrap_or([0.0; 4]));
         }
         u.f4([0.5, 1.0, 2.0, 4.0]);

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{DeviceDesc, DeviceState, XyzRhwPsizeDiffuse};
+use pointillist_core::device::{DeviceDesc, DeviceState, RenderTarget, Vertex, XyzRhwPsizeDiffuse};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Api, Blend, RenderState};
 use pointillist_core::texture::Texture;
@@ -25,27 +25,18 @@ fn vertices() -> Vec<u8> {
     .iter()
     .enumerate()
     {
-        let v = XyzRhwPsizeDiffuse {
+        XyzRhwPsizeDiffuse {
             position: [x, y, 0.1 * i as f32, 1.0],
             psize: s,
             diffuse: c,
-        };
-        for w in [
-            v.position[0].to_bits(),
-            v.position[1].to_bits(),
-            v.position[2].to_bits(),
-            v.position[3].to_bits(),
-            v.psize.to_bits(),
-            v.diffuse,
-        ] {
-            out.extend_from_slice(&w.to_le_bytes());
         }
+        .write(&mut out);
     }
     out
 }
 
 fn fvf() -> Fvf {
-    Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0)
+    XyzRhwPsizeDiffuse::FVF
 }
 
 /// The device state both sides draw with: additive sprites, textured.
@@ -64,7 +55,7 @@ fn state() -> DeviceState {
 }
 
 /// The CPU reference: the same state through a device.
-fn reference() -> pointillist_core::device::RenderTarget {
+fn reference() -> RenderTarget {
     let st = state();
     cpu(DeviceDesc::new(W, H), &|d| {
         for r in [
@@ -82,7 +73,7 @@ fn reference() -> pointillist_core::device::RenderTarget {
 
 /// Reads an Rgba8Unorm texture back as D3DCOLORs.
 fn read_rgba(ctx: &GpuContext, texture: &wgpu::Texture) -> Vec<u32> {
-    let padded = (W * 4).div_ceil(256) * 256;
+    let padded = (W * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
     let buffer = ctx.device().create_buffer(&wgpu::BufferDescriptor {
         label: None,
         size: u64::from(padded * H),
@@ -143,10 +134,51 @@ fn engine_texture(ctx: &GpuContext) -> wgpu::Texture {
     })
 }
 
-fn as_target(color: Vec<u32>) -> pointillist_core::device::RenderTarget {
-    let mut t = reference();
-    t.color = color;
-    t
+/// The engine's attachments: an `Rgba8Unorm` colour texture, no depth.
+fn engine_desc() -> TargetDesc {
+    TargetDesc {
+        width: W,
+        height: H,
+        color_format: wgpu::TextureFormat::Rgba8Unorm,
+        depth_format: None,
+    }
+}
+
+/// The engine's own pass over `view`, cleared to the device's default clear colour.
+fn engine_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("engine pass"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// Compares the colours of the engine's `texture` with the CPU reference. Without a depth
+/// attachment nothing is depth-tested; the scene's depths are all distinct and nearer than the
+/// clear depth, so the colours agree anyway.
+fn assert_matches_reference(name: &str, ctx: &GpuContext, texture: &wgpu::Texture) {
+    let reference = reference();
+    let gpu = RenderTarget {
+        color: read_rgba(ctx, texture),
+        ..reference.clone()
+    };
+    if let Err(m) = compare(name, &reference, &gpu, Tolerance::Exact) {
+        panic!("{m}");
+    }
 }
 
 #[test]
@@ -157,49 +189,18 @@ fn renders_into_an_engine_render_pass() {
     let texture = engine_texture(&ctx);
     let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
     let mut renderer = PointRenderer::new(Arc::clone(&ctx));
-    let desc = TargetDesc {
-        width: W,
-        height: H,
-        color_format: wgpu::TextureFormat::Rgba8Unorm,
-        depth_format: None,
-    };
     let draw = renderer
-        .prepare(&state(), fvf(), &vertices(), &desc)
+        .prepare(&state(), fvf(), &vertices(), &engine_desc())
         .expect("prepare")
         .expect("something to draw");
     // The engine's own pass: it clears to the device's default clear colour, then the points.
     let mut encoder = ctx
         .device()
         .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("engine pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        draw.draw(&mut pass);
-    }
+    draw.draw(&mut engine_pass(&mut encoder, &view));
     ctx.queue().submit([encoder.finish()]);
     drop(draw);
-    let gpu = as_target(read_rgba(&ctx, &texture));
-    let mut reference = reference();
-    // Without a depth attachment nothing is depth-tested; the scene's depths are all
-    // distinct and nearer than the clear depth, so the colours agree anyway.
-    reference.depth = gpu.depth.clone();
-    if let Err(m) = compare("embed_pass", &reference, &gpu, Tolerance::Exact) {
-        panic!("{m}");
-    }
+    assert_matches_reference("embed_pass", &ctx, &texture);
 }
 
 #[test]
@@ -210,33 +211,13 @@ fn renders_into_an_engine_texture_and_reuses_buffers() {
     let texture = engine_texture(&ctx);
     let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
     let mut renderer = PointRenderer::new(Arc::clone(&ctx));
-    let desc = TargetDesc {
-        width: W,
-        height: H,
-        color_format: wgpu::TextureFormat::Rgba8Unorm,
-        depth_format: None,
-    };
+    let desc = engine_desc();
     // Frame after frame into the same texture: clear, then draw.
     for _ in 0..3 {
         let mut encoder = ctx
             .device()
             .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("engine clear"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        engine_pass(&mut encoder, &view);
         ctx.queue().submit([encoder.finish()]);
         renderer
             .render(&state(), fvf(), &vertices(), &desc, &view, None)
@@ -251,12 +232,7 @@ fn renders_into_an_engine_texture_and_reuses_buffers() {
         pipelines,
         "no new pipeline for an empty draw"
     );
-    let gpu = as_target(read_rgba(&ctx, &texture));
-    let mut reference = reference();
-    reference.depth = gpu.depth.clone();
-    if let Err(m) = compare("embed_texture", &reference, &gpu, Tolerance::Exact) {
-        panic!("{m}");
-    }
+    assert_matches_reference("embed_texture", &ctx, &texture);
 }
 
 #[test]
@@ -267,10 +243,8 @@ fn errors_are_device_errors_not_panics() {
     let mut renderer = PointRenderer::new(Arc::clone(&ctx));
     // A target format the pipeline cannot render to is a validation error, reported.
     let desc = TargetDesc {
-        width: W,
-        height: H,
         color_format: wgpu::TextureFormat::Rgba8Uint,
-        depth_format: None,
+        ..engine_desc()
     };
     let e = renderer
         .prepare(&state(), fvf(), &vertices(), &desc)

@@ -3,8 +3,9 @@
 //! in both CLIPPLANESCALEDPOINTS modes), sprite coordinates, texture-stage operations,
 //! samplers, alpha test, specular, depth test and write, blending, COLORWRITEENABLE.
 //!
-//! Every scene runs on both backends from the same closure (`support::check`): exact where no
-//! filtering or blending arithmetic is involved, within 1/255 per channel otherwise.
+//! Every scene runs on both backends from the same closure (`pointillist_testkit::parity::check`):
+//! exact where no filtering or blending arithmetic is involved, within 1/255 per channel
+//! otherwise.
 
 use std::sync::Arc;
 
@@ -481,7 +482,7 @@ fn spec_3_3_user_clip_planes_vertex_position() {
 
 /// [`plane_scene`] without its planes through exact pixel centres: interpolated clip distances
 /// are only as exact as the interpolation, so a centre lying exactly on a plane (kept by the
-/// CPU, value 0) can come out at -1e-8 and be clipped.
+/// CPU, value 0) can come out slightly negative and be clipped.
 fn plane_scene_off_centres(d: &mut AnyDevice) -> Result<(), DeviceError> {
     d.set_transform(
         TransformType::View,
@@ -518,7 +519,7 @@ fn spec_3_3_user_clip_planes_with_clip_distances() {
     );
 }
 
-/// Binds `texture` to stage 0 with `filter` for MIN and MAG.
+/// Binds `texture` to `stage` with `filter` for MIN and MAG.
 fn bind(d: &mut AnyDevice, stage: usize, texture: &Arc<Texture>, filter: TextureFilter) {
     d.set_texture(stage, Some(Arc::clone(texture)))
         .expect("stage");
@@ -577,13 +578,7 @@ fn spec_4_3_without_sprite_enable_vertex_coordinates() {
             f(u * 0.5 + 0.3),
         ]);
     }
-    for mode in [
-        TextureAddress::Wrap,
-        TextureAddress::Mirror,
-        TextureAddress::Clamp,
-        TextureAddress::Border,
-        TextureAddress::MirrorOnce,
-    ] {
+    for &mode in TextureAddress::ALL {
         for (filter, tol) in [
             (TextureFilter::Point, Tolerance::Exact),
             (TextureFilter::Linear, Tolerance::Steps(1)),
@@ -615,13 +610,7 @@ fn spec_5_2_address_modes_on_sprites() {
         (60.3, 20.7, 13.0),
         (100.0, 20.0, 40.0),
     ];
-    for mode in [
-        TextureAddress::Wrap,
-        TextureAddress::Mirror,
-        TextureAddress::Clamp,
-        TextureAddress::Border,
-        TextureAddress::MirrorOnce,
-    ] {
+    for &mode in TextureAddress::ALL {
         check(
             &format!("spec_5_2_sprite_linear_{mode:?}"),
             128,
@@ -722,32 +711,11 @@ fn op_scene(
 #[test]
 fn spec_5_1_texture_stage_operations() {
     let tex = distinct_texture(16, 16);
-    let ops = [
-        TextureOp::SelectArg1,
-        TextureOp::SelectArg2,
-        TextureOp::Modulate,
-        TextureOp::Modulate2x,
-        TextureOp::Modulate4x,
-        TextureOp::Add,
-        TextureOp::AddSigned,
-        TextureOp::AddSigned2x,
-        TextureOp::Subtract,
-        TextureOp::AddSmooth,
-        TextureOp::BlendDiffuseAlpha,
-        TextureOp::BlendTextureAlpha,
-        TextureOp::BlendFactorAlpha,
-        TextureOp::BlendTextureAlphaPm,
-        TextureOp::BlendCurrentAlpha,
-        TextureOp::Premodulate,
-        TextureOp::ModulateAlphaAddColor,
-        TextureOp::ModulateColorAddAlpha,
-        TextureOp::ModulateInvAlphaAddColor,
-        TextureOp::ModulateInvColorAddAlpha,
-        TextureOp::BumpEnvMap,
-        TextureOp::DotProduct3,
-        TextureOp::MultiplyAdd,
-        TextureOp::Lerp,
-    ];
+    // Every operation but DISABLE (it ends the cascade) and BUMPENVMAPLUMINANCE (unemulated,
+    // like BUMPENVMAP, which stands for both).
+    let ops = TextureOp::ALL
+        .iter()
+        .filter(|op| !matches!(op, TextureOp::Disable | TextureOp::BumpEnvMapLuminance));
     let args = [
         (TA_TEXTURE, TA_DIFFUSE, TA_TFACTOR),
         (TA_TEXTURE | TA_COMPLEMENT, TA_CURRENT, TA_SPECULAR),
@@ -762,7 +730,7 @@ fn spec_5_1_texture_stage_operations() {
         return;
     };
     let mut failures = Vec::new();
-    for op in ops {
+    for &op in ops {
         for (k, &(a1, a2, a0)) in args.iter().enumerate() {
             let r = try_check_on(
                 &ctx,
@@ -829,16 +797,7 @@ fn spec_5_1_two_stages_temp_and_untextured() {
 #[test]
 fn spec_5_3_alpha_test_and_specular() {
     let tex = distinct_texture(16, 16);
-    for func in [
-        Cmp::Never,
-        Cmp::Less,
-        Cmp::Equal,
-        Cmp::LessEqual,
-        Cmp::Greater,
-        Cmp::NotEqual,
-        Cmp::GreaterEqual,
-        Cmp::Always,
-    ] {
+    for &func in Cmp::ALL {
         check(
             &format!("spec_5_3_alpha_{}", func.name()),
             96,
@@ -877,16 +836,7 @@ fn spec_5_3_alpha_test_and_specular() {
 
 #[test]
 fn spec_5_4_depth_test_and_write() {
-    for func in [
-        Cmp::Never,
-        Cmp::Less,
-        Cmp::Equal,
-        Cmp::LessEqual,
-        Cmp::Greater,
-        Cmp::NotEqual,
-        Cmp::GreaterEqual,
-        Cmp::Always,
-    ] {
+    for &func in Cmp::ALL {
         for write in [true, false] {
             check(
                 &format!("spec_5_4_depth_{}_{write}", func.name()),
@@ -927,32 +877,30 @@ fn spec_5_4_depth_test_and_write() {
     }
 }
 
+/// Three separate 10-pixel points over a 32x20 target: one blend per pixel.
+const BLEND_ROW: [XyzRhwDiffuse; 3] = [
+    XyzRhwDiffuse {
+        position: [6.0, 10.0, 0.5, 1.0],
+        diffuse: 0x80FF_4010,
+    },
+    XyzRhwDiffuse {
+        position: [16.0, 10.0, 0.5, 1.0],
+        diffuse: 0x3320_80F0,
+    },
+    XyzRhwDiffuse {
+        position: [26.0, 10.0, 0.5, 1.0],
+        diffuse: 0xFFFF_FFFF,
+    },
+];
+
 #[test]
 fn spec_5_5_blending() {
-    let factors = [
-        Blend::Zero,
-        Blend::One,
-        Blend::SrcColor,
-        Blend::InvSrcColor,
-        Blend::SrcAlpha,
-        Blend::InvSrcAlpha,
-        Blend::DestAlpha,
-        Blend::InvDestAlpha,
-        Blend::DestColor,
-        Blend::InvDestColor,
-        Blend::SrcAlphaSat,
-        Blend::BothSrcAlpha,
-        Blend::BothInvSrcAlpha,
-        Blend::BlendFactor,
-        Blend::InvBlendFactor,
-    ];
-    let ops = [
-        BlendOp::Add,
-        BlendOp::Subtract,
-        BlendOp::RevSubtract,
-        BlendOp::Min,
-        BlendOp::Max,
-    ];
+    // Every factor but the dual-source SRCCOLOR2 / INVSRCCOLOR2.
+    let factors: Vec<Blend> = Blend::ALL
+        .iter()
+        .copied()
+        .filter(|b| !matches!(b, Blend::SrcColor2 | Blend::InvSrcColor2))
+        .collect();
     let scene = |src: Blend, dst: Blend, op: BlendOp, separate: bool| {
         move |d: &mut AnyDevice| -> Result<(), DeviceError> {
             d.clear(0x8060_A0C0, 1.0)?;
@@ -970,20 +918,7 @@ fn spec_5_5_blending() {
             }
             d.set_render_state(RenderState::POINTSIZE, 10.0f32);
             // One blend per pixel; overlapping blends are checked in vertex order below.
-            d.draw_vertices(&[
-                XyzRhwDiffuse {
-                    position: [6.0, 10.0, 0.5, 1.0],
-                    diffuse: 0x80FF_4010,
-                },
-                XyzRhwDiffuse {
-                    position: [16.0, 10.0, 0.5, 1.0],
-                    diffuse: 0x3320_80F0,
-                },
-                XyzRhwDiffuse {
-                    position: [26.0, 10.0, 0.5, 1.0],
-                    diffuse: 0xFFFF_FFFF,
-                },
-            ])
+            d.draw_vertices(&BLEND_ROW)
         }
     };
     for &src in &factors {
@@ -997,7 +932,7 @@ fn spec_5_5_blending() {
             );
         }
     }
-    for &op in &ops {
+    for &op in BlendOp::ALL {
         for separate in [false, true] {
             check(
                 &format!("spec_5_5_blendop_{}_{separate}", op.name()),
@@ -1099,16 +1034,7 @@ fn spec_5_5_fixed_function_blending_is_within_a_step_per_blend() {
                 d.set_render_state(RenderState::DESTBLEND, dst);
                 d.set_render_state(RenderState::BLENDFACTOR, 0x40FF_8020u32);
                 d.set_render_state(RenderState::POINTSIZE, 10.0f32);
-                d.draw_vertices(&[
-                    XyzRhwDiffuse {
-                        position: [6.0, 10.0, 0.5, 1.0],
-                        diffuse: 0x80FF_4010,
-                    },
-                    XyzRhwDiffuse {
-                        position: [16.0, 10.0, 0.5, 1.0],
-                        diffuse: 0x3320_80F0,
-                    },
-                ])
+                d.draw_vertices(&BLEND_ROW[..2])
             },
         );
     }

@@ -9,7 +9,6 @@ use std::sync::Arc;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use pointillist_core::device::{DeviceDesc, TransformType};
-use pointillist_core::math::Mat4;
 use pointillist_cpu::CpuDevice;
 use pointillist_particles::{DrawBuffers, ParticleSystem, presets};
 
@@ -19,7 +18,7 @@ fn warm_snow_storm() -> ParticleSystem {
     let texture = Arc::new(presets::soft_disc_texture(32));
     let config = presets::snow_storm_system(FLAKES, Some(texture), 1);
     let mut system = ParticleSystem::new(config).expect("valid preset");
-    system.advance_to(18.0);
+    system.advance_to(presets::SNOW_STORM_WARMUP);
     assert!(
         system.len() > FLAKES * 99 / 100,
         "the storm is at its steady state"
@@ -29,14 +28,9 @@ fn warm_snow_storm() -> ParticleSystem {
 
 fn hd_device() -> CpuDevice {
     let mut d = pointillist_cpu::device(DeviceDesc::new(1920, 1080)).expect("device");
-    d.set_transform(
-        TransformType::View,
-        Mat4::look_at_lh([0.0, 4.0, -20.0], [0.0, 4.0, 0.0], [0.0, 1.0, 0.0]),
-    );
-    d.set_transform(
-        TransformType::Projection,
-        Mat4::perspective_fov_lh(1.047, 1920.0 / 1080.0, 0.1, 200.0),
-    );
+    let (view, projection) = presets::snow_storm_camera(1920.0 / 1080.0);
+    d.set_transform(TransformType::View, view);
+    d.set_transform(TransformType::Projection, projection);
     d
 }
 

@@ -7,6 +7,7 @@
 //! position. Sampling never allocates and costs eight lattice reads; a non-finite position
 //! samples to zero.
 
+use crate::curve::Keyable;
 use crate::rng::Rng;
 
 /// Lattice points along each axis; the field repeats every `NOISE_PERIOD` units.
@@ -36,16 +37,6 @@ fn cell(x: f32) -> (usize, usize, f32) {
     // Two's complement `&` wraps negative cells periodically too.
     let i = (fl & MASK as i32) as usize;
     (i, (i + 1) & MASK, f * f * (3.0 - 2.0 * f))
-}
-
-#[inline]
-fn lerp4(a: [f32; 4], b: [f32; 4], t: f32) -> [f32; 4] {
-    [
-        a[0] + (b[0] - a[0]) * t,
-        a[1] + (b[1] - a[1]) * t,
-        a[2] + (b[2] - a[2]) * t,
-        a[3] + (b[3] - a[3]) * t,
-    ]
 }
 
 impl NoiseField {
@@ -79,11 +70,11 @@ impl NoiseField {
             z0 * NOISE_PERIOD * NOISE_PERIOD,
             z1 * NOISE_PERIOD * NOISE_PERIOD,
         );
-        let a = lerp4(self.at(x0, y0, z0), self.at(x1, y0, z0), wx);
-        let b = lerp4(self.at(x0, y1, z0), self.at(x1, y1, z0), wx);
-        let c = lerp4(self.at(x0, y0, z1), self.at(x1, y0, z1), wx);
-        let d = lerp4(self.at(x0, y1, z1), self.at(x1, y1, z1), wx);
-        let v = lerp4(lerp4(a, b, wy), lerp4(c, d, wy), wz);
+        let a = Keyable::lerp(self.at(x0, y0, z0), self.at(x1, y0, z0), wx);
+        let b = Keyable::lerp(self.at(x0, y1, z0), self.at(x1, y1, z0), wx);
+        let c = Keyable::lerp(self.at(x0, y0, z1), self.at(x1, y0, z1), wx);
+        let d = Keyable::lerp(self.at(x0, y1, z1), self.at(x1, y1, z1), wx);
+        let v = Keyable::lerp(Keyable::lerp(a, b, wy), Keyable::lerp(c, d, wy), wz);
         [v[0], v[1], v[2]]
     }
 }

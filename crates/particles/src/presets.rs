@@ -6,6 +6,7 @@
 
 use std::sync::Arc;
 
+use pointillist_core::math::Mat4;
 use pointillist_core::texture::Texture;
 
 use crate::curve::Curve;
@@ -121,7 +122,7 @@ pub fn textures() -> Vec<(&'static str, Texture)> {
 /// through a 50 x 15 x 44 m volume centred on `(0, 7, 5)`, pushed by wind and turbulence, drawn
 /// additively (`ONE`, `ONE`) with distance scaling. At the steady state, reached after about 16
 /// simulated seconds, `flakes` are alive. Look at it from about `(0, 4, -20)` towards
-/// `(0, 4, 0)` with a 60 degree field of view.
+/// `(0, 4, 0)` with a 60 degree field of view ([`snow_storm_camera`]).
 pub fn snow_storm(flakes: usize, texture: Option<Arc<Texture>>) -> Emitter {
     let flakes = flakes.max(1);
     Emitter {
@@ -170,6 +171,19 @@ pub fn snow_storm_system(flakes: usize, texture: Option<Arc<Texture>>, seed: u64
         time_step: 1.0 / 60.0,
         emitters: vec![snow_storm(flakes, texture)],
     }
+}
+
+/// Simulated seconds after which [`snow_storm`] is at its steady state, with a margin.
+pub const SNOW_STORM_WARMUP: f64 = 18.0;
+
+/// The camera [`snow_storm`] is benchmarked with, as `(VIEW, PROJECTION)`: from `(0, 4, -20)`
+/// towards `(0, 4, 0)`, a 1.047 rad (60 degree) vertical field of view at `aspect`, near 0.1,
+/// far 200.
+pub fn snow_storm_camera(aspect: f32) -> (Mat4, Mat4) {
+    (
+        Mat4::look_at_lh([0.0, 4.0, -20.0], [0.0, 4.0, 0.0], [0.0, 1.0, 0.0]),
+        Mat4::perspective_fov_lh(1.047, aspect, 0.1, 200.0),
+    )
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@ use toml::de::{DeTable, DeValue};
 
 use crate::reader::{
     Fields, Source, Value, array, boolean, count, entries, expected, fields, finite, finite_in,
-    float, floats, index, integer, integer_in, join, number, string, table, u32_value,
+    float, floats, index, integer, integer_in, join, number, one_of, string, table, u32_value,
 };
 use crate::{
     Command, MAX_TARGET_SIZE, MEMORY_BUDGET, Scene, SceneError, Step, TARGET_BYTES_PER_PIXEL,
@@ -928,21 +928,7 @@ fn matrix(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Mat4, SceneErro
         }
         DeValue::String(s) if s.eq_ignore_ascii_case("identity") => Ok(Mat4::IDENTITY),
         DeValue::Table(_) => {
-            let f = fields(src, v, path, MAKERS)?;
-            let given: Vec<&str> = MAKERS
-                .iter()
-                .copied()
-                .filter(|k| f.get(k).is_some())
-                .collect();
-            let [maker] = given[..] else {
-                return Err(src.error(
-                    &v.span(),
-                    path,
-                    format!("expected exactly one of: {}", MAKERS.join(", ")),
-                ));
-            };
-            let mv = f.require(src, maker)?;
-            let mpath = f.path(maker);
+            let (maker, mv, mpath) = one_of(src, v, path, MAKERS)?;
             let m = match maker {
                 "look_at_lh" => {
                     let a = fields(src, mv, &mpath, &["eye", "at", "up"])?;

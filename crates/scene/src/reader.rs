@@ -170,6 +170,30 @@ pub(crate) fn fields<'t, 'i>(
     })
 }
 
+/// Reads `v` as a table holding exactly one of `keys` (a choice such as a shape or a matrix
+/// maker): returns that key, its value and its key path.
+pub(crate) fn one_of<'t, 'i>(
+    src: &Source<'_>,
+    v: &'t Value<'i>,
+    path: &str,
+    keys: &[&'static str],
+) -> Result<(&'static str, &'t Value<'i>, String), SceneError> {
+    let f = fields(src, v, path, keys)?;
+    let given: Vec<&'static str> = keys
+        .iter()
+        .copied()
+        .filter(|k| f.get(k).is_some())
+        .collect();
+    let [key] = given[..] else {
+        return Err(src.error(
+            &v.span(),
+            path,
+            format!("expected exactly one of: {}", keys.join(", ")),
+        ));
+    };
+    Ok((key, f.require(src, key)?, f.path(key)))
+}
+
 /// The error "expected `what`, found <type of v>".
 pub(crate) fn expected(src: &Source<'_>, v: &Value<'_>, path: &str, what: &str) -> SceneError {
     src.error(

@@ -17,17 +17,19 @@ use pointillist_core::states::{
 use crate::{Command, Scene, parse};
 
 /// The scene file name the tests parse under: relative files are found in `tests/data/`.
-const FILE: &str = "tests/data/test.toml";
+pub(crate) const FILE: &str = "tests/data/test.toml";
 
 /// Four lines: the required keys, a 64x32 target.
-const HEAD: &str = "format = 1\n[target]\nwidth = 64\nheight = 32\n";
+pub(crate) const HEAD: &str = "format = 1\n[target]\nwidth = 64\nheight = 32\n";
 
-fn ok(body: &str) -> Scene {
+/// `HEAD` + `body`, parsed.
+pub(crate) fn ok(body: &str) -> Scene {
     let src = format!("{HEAD}{body}");
     parse(&src, Path::new(FILE)).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn err(body: &str) -> String {
+/// The one-line error of `HEAD` + `body`.
+pub(crate) fn err(body: &str) -> String {
     let src = format!("{HEAD}{body}");
     match parse(&src, Path::new(FILE)) {
         Ok(_) => panic!("parsed:\n{src}"),

@@ -4,17 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::parse;
-
-const FILE: &str = "tests/data/test.toml";
-const HEAD: &str = "format = 1\n[target]\nwidth = 64\nheight = 32\n";
-
-fn err(body: &str) -> String {
-    let src = format!("{HEAD}{body}");
-    match parse(&src, Path::new(FILE)) {
-        Ok(_) => panic!("parsed:\n{src}"),
-        Err(e) => e.to_string(),
-    }
-}
+use crate::tests::{HEAD, err};
 
 fn err_at(src: &str, file: &Path) -> String {
     match parse(src, file) {

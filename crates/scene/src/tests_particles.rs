@@ -7,24 +7,8 @@ use pointillist_core::math::Mat4;
 use pointillist_core::states::{RenderState, SamplerState, TextureFilter, TextureStageState};
 use pointillist_particles::{BlendMode, Burst, DrawBuffers, Range, Range3, Shape, Turbulence};
 
-use crate::{Camera, CameraKey, Scene, parse};
-
-const FILE: &str = "tests/data/test.toml";
-/// Four lines: the body starts on line 5.
-const HEAD: &str = "format = 1\n[target]\nwidth = 64\nheight = 32\n";
-
-fn ok(body: &str) -> Scene {
-    let src = format!("{HEAD}{body}");
-    parse(&src, Path::new(FILE)).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn err(body: &str) -> String {
-    let src = format!("{HEAD}{body}");
-    match parse(&src, Path::new(FILE)) {
-        Ok(_) => panic!("parsed:\n{src}"),
-        Err(e) => e.to_string(),
-    }
-}
+use crate::tests::{err, ok};
+use crate::{Camera, CameraKey, parse};
 
 #[test]
 fn an_emitter_with_every_key() {

@@ -21,16 +21,16 @@
 
 use std::io::Write as _;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, OnceLock};
 
 use pointillist_core::device::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
 };
 use pointillist_core::fvf::Fvf;
 use pointillist_core::pixel::PixelSetup;
-use pointillist_core::states::{Blend, TextureFilter};
-use pointillist_core::texture::SamplerDesc;
+use pointillist_core::states::Blend;
+use pointillist_core::texture::{SamplerDesc, is_linear};
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 
@@ -89,8 +89,7 @@ pub fn draw_tolerance(state: &DeviceState) -> Tolerance {
         .filter(|(_, st)| st.samples)
         .any(|(i, _)| {
             let s = SamplerDesc::from_states(&state.sampler_states[i]);
-            let linear = |f| !matches!(f, TextureFilter::None | TextureFilter::Point);
-            linear(s.mag) || linear(s.min) || linear(s.mip)
+            is_linear(s.mag) || is_linear(s.min) || is_linear(s.mip)
         });
     if blends || filters {
         Tolerance::Steps(1)
@@ -130,22 +129,19 @@ pub fn gpu_context() -> Option<Arc<GpuContext>> {
     }
 }
 
-/// Where failing comparisons write their images: `gpu-diffs/` in `$CARGO_TARGET_DIR`, else in
-/// the workspace's `target/`.
-pub fn diff_dir() -> PathBuf {
+/// The cargo target folder: `$CARGO_TARGET_DIR` (relative to the workspace), else the
+/// workspace's `target/`.
+pub fn target_dir() -> PathBuf {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let target = match std::env::var_os("CARGO_TARGET_DIR") {
-        Some(dir) if !dir.is_empty() => {
-            let dir = PathBuf::from(dir);
-            if dir.is_absolute() {
-                dir
-            } else {
-                root.join(dir)
-            }
-        }
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) if !dir.is_empty() => root.join(dir), // an absolute `dir` replaces `root`
         _ => root.join("target"),
-    };
-    target.join("gpu-diffs")
+    }
+}
+
+/// Where failing comparisons write their images: `gpu-diffs/` in the [target folder](target_dir).
+pub fn diff_dir() -> PathBuf {
+    target_dir().join("gpu-diffs")
 }
 
 /// Largest per-channel difference of two D3DCOLORs.
@@ -287,16 +283,6 @@ impl DualBackend {
         }
     }
 
-    /// True when the GPU backend draws too.
-    pub fn has_gpu(&self) -> bool {
-        self.gpu.is_some()
-    }
-
-    /// The tolerance the next read compares with.
-    pub fn tolerance(&self) -> Tolerance {
-        self.tolerance
-    }
-
     /// The name of the next comparison: the given name or the test's, numbered after the
     /// first read.
     fn comparison_name(&self) -> String {
@@ -386,22 +372,11 @@ pub fn device_named(desc: DeviceDesc, name: &str) -> Result<DualDevice, DeviceEr
     Device::new(DualBackend::named(name), desc)
 }
 
-/// The adapter the comparisons run on, for a test's log ("llvmpipe (LLVM 15.0.6, 256 bits),
-/// Vulkan"), or why there is none.
-pub fn adapter_line() -> String {
-    static LINE: OnceLock<String> = OnceLock::new();
-    LINE.get_or_init(|| match GpuContext::shared() {
-        Ok(ctx) => format!("{}, {}", ctx.adapter().name, ctx.adapter().backend),
-        Err(e) => format!("no GPU adapter: {e}"),
-    })
-    .clone()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use pointillist_core::caps::Caps;
-    use pointillist_core::states::{Api, RenderState, SamplerState};
+    use pointillist_core::states::{Api, RenderState, SamplerState, TextureFilter};
 
     fn state() -> DeviceState {
         DeviceState::new(Api::D3d9, Caps::reference(), 4, 4)

@@ -5,34 +5,13 @@
 
 use std::sync::Arc;
 
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
-};
-use pointillist_core::fvf::Fvf;
+use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_gpu::{GpuBackend, GpuContext};
 
 pub use crate::{Tolerance, compare, gpu_context};
 
-/// Any backend, so one closure drives both.
-pub struct AnyBackend(
-    /// The backend the calls go to.
-    pub Box<dyn Backend + Send>,
-);
-
-impl Backend for AnyBackend {
-    fn create_target(&mut self, w: u32, h: u32, c: u32, d: f32) -> Result<(), DeviceError> {
-        self.0.create_target(w, h, c, d)
-    }
-    fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError> {
-        self.0.clear(color, depth)
-    }
-    fn draw_points(&mut self, s: &DeviceState, fvf: Fvf, v: &[u8]) -> Result<(), DeviceError> {
-        self.0.draw_points(s, fvf, v)
-    }
-    fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
-        self.0.read_target()
-    }
-}
+/// Any backend, so one closure drives both (core's `Backend for Box<B>`).
+pub type AnyBackend = Box<dyn Backend + Send>;
 
 /// The device a scene draws on.
 pub type AnyDevice = Device<AnyBackend>;
@@ -53,11 +32,7 @@ pub fn cpu(
     desc: DeviceDesc,
     scene: &dyn Fn(&mut AnyDevice) -> Result<(), DeviceError>,
 ) -> RenderTarget {
-    run_on(
-        AnyBackend(Box::new(pointillist_cpu::CpuBackend::new())),
-        desc,
-        scene,
-    )
+    run_on(Box::new(pointillist_cpu::CpuBackend::new()), desc, scene)
 }
 
 /// The GPU target of `scene` on `ctx`.
@@ -67,7 +42,7 @@ pub fn gpu(
     scene: &dyn Fn(&mut AnyDevice) -> Result<(), DeviceError>,
 ) -> RenderTarget {
     run_on(
-        AnyBackend(Box::new(GpuBackend::with_context(Arc::clone(ctx)))),
+        Box::new(GpuBackend::with_context(Arc::clone(ctx))),
         desc,
         scene,
     )

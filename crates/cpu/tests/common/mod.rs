@@ -1,5 +1,6 @@
-//! Helpers shared by the integration tests: devices, raw vertex bytes, pixel queries, and an
-//! independent f64 model of unorm rounding for expected colours.
+//! Helpers shared by the integration tests: devices, raw vertex bytes, pixel queries, an
+//! independent f64 model of unorm rounding for expected colours, and the tests' random stream
+//! ([`Rng`], the one the unit tests use).
 #![allow(dead_code)]
 
 use std::collections::BTreeSet;
@@ -11,6 +12,11 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, TextureOp, TextureStageState};
 use pointillist_core::texture::Texture;
+
+#[path = "../../src/test_rng.rs"]
+mod test_rng;
+#[allow(unused_imports)] // not every test binary draws random inputs
+pub(crate) use test_rng::Rng;
 
 /// The device every test draws on: the CPU backend and, with an adapter, the GPU backend,
 /// compared at each read of the target (`pointillist_testkit`).

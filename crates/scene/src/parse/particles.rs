@@ -14,7 +14,7 @@ use toml::de::DeValue;
 use super::{Charge, Parser, state_value};
 use crate::reader::{
     Fields, Source, Value, array, boolean, count, entries, expected, fields, finite, float, floats,
-    index, integer_in, join, string, u32_value,
+    index, integer_in, join, one_of, string, u32_value,
 };
 use crate::{Animation, Camera, CameraKey, EmitterDesc, PARTICLE_BYTES, SceneError};
 
@@ -129,6 +129,15 @@ fn vec3(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<[f32; 3], SceneEr
             &index(path, i),
             format!("expected a finite number, found {}", a[i]),
         ));
+    }
+    Ok(a)
+}
+
+/// Three finite numbers, none negative.
+fn non_negative_vec3(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<[f32; 3], SceneError> {
+    let a = vec3(src, v, path)?;
+    if let Some(i) = a.iter().position(|x| *x < 0.0) {
+        return Err(src.error(&v.span(), &index(path, i), format!("{} is negative", a[i])));
     }
     Ok(a)
 }
@@ -290,21 +299,7 @@ fn shape(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Shape, SceneErro
         DeValue::Table(_) => {}
         _ => return Err(expected(src, v, path, "\"point\" or a table")),
     }
-    let f = fields(src, v, path, SHAPES)?;
-    let given: Vec<&str> = SHAPES
-        .iter()
-        .copied()
-        .filter(|k| f.get(k).is_some())
-        .collect();
-    let [kind] = given[..] else {
-        return Err(src.error(
-            &v.span(),
-            path,
-            format!("expected exactly one of: {}", SHAPES.join(", ")),
-        ));
-    };
-    let sv = f.require(src, kind)?;
-    let spath = f.path(kind);
+    let (kind, sv, spath) = one_of(src, v, path, SHAPES)?;
     match kind {
         "point" => {
             fields(src, sv, &spath, &[])?;
@@ -313,14 +308,7 @@ fn shape(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Shape, SceneErro
         "box" => {
             let s = fields(src, sv, &spath, &["half_extents"])?;
             let hv = s.require(src, "half_extents")?;
-            let half_extents = vec3(src, hv, &s.path("half_extents"))?;
-            if let Some(i) = half_extents.iter().position(|h| *h < 0.0) {
-                return Err(src.error(
-                    &hv.span(),
-                    &index(&s.path("half_extents"), i),
-                    format!("{} is negative", half_extents[i]),
-                ));
-            }
+            let half_extents = non_negative_vec3(src, hv, &s.path("half_extents"))?;
             Ok(Shape::Box { half_extents })
         }
         "sphere" => {
@@ -409,17 +397,7 @@ fn burst(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Burst, SceneErro
     }
     let jitter = match f.get("jitter") {
         None => [0.0; 3],
-        Some(v) => {
-            let j = vec3(src, v, &f.path("jitter"))?;
-            if let Some(i) = j.iter().position(|x| *x < 0.0) {
-                return Err(src.error(
-                    &v.span(),
-                    &index(&f.path("jitter"), i),
-                    format!("{} is negative", j[i]),
-                ));
-            }
-            j
-        }
+        Some(v) => non_negative_vec3(src, v, &f.path("jitter"))?,
     };
     Ok(Burst {
         time,
@@ -583,17 +561,7 @@ impl Parser<'_> {
             r.point_scale = match v.get_ref() {
                 DeValue::Boolean(false) => None,
                 DeValue::Boolean(true) => Some([0.0, 0.0, 1.0]),
-                DeValue::Array(_) => {
-                    let abc = vec3(src, v, &path)?;
-                    if let Some(i) = abc.iter().position(|x| *x < 0.0) {
-                        return Err(src.error(
-                            &v.span(),
-                            &index(&path, i),
-                            format!("{} is negative", abc[i]),
-                        ));
-                    }
-                    Some(abc)
-                }
+                DeValue::Array(_) => Some(non_negative_vec3(src, v, &path)?),
                 _ => return Err(expected(src, v, &path, "true, false or [A, B, C]")),
             };
         }
