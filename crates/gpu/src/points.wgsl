@@ -87,6 +87,9 @@ fn finite4(v: vec4f) -> bool {
     return finite(v.x) && finite(v.y) && finite(v.z) && finite(v.w);
 }
 
+// The level of detail of vertex texture coordinates: magnification (see sample_tex).
+const MAG_LOD: f32 = -1.0e30;
+
 fn is_nan(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
 }
@@ -376,13 +379,19 @@ fn sample_level(t: texture_2d<u32>, level: i32, mu: u32, mv: u32, border: u32, u
     return lerp4(lerp4(t00, t10, fx), lerp4(t01, t11, fx), fy);
 }
 
-// Texture::sample: `lod` is log2(texels per pixel) of level 0 (a huge negative number for
-// magnification); mip is D3DTEXF NONE (0), POINT (1) or LINEAR (2).
+// Texture::sample: `lod` is log2(texels per pixel) of level 0, or MAG_LOD for vertex
+// coordinates (core's -infinity, which WGSL cannot write); mip is D3DTEXF NONE (0), POINT (1)
+// or LINEAR (2).
 fn sample_tex(t: texture_2d<u32>, stage: u32, mu: u32, mv: u32, mag_linear: bool, min_linear: bool, mip: u32, uv_in: vec2f, lod_in: f32) -> vec4f {
     let info = U.stage_info[stage];
     let border = info.x;
     let uv = vec2f(sanitize(uv_in.x), sanitize(uv_in.y));
-    var lod = lod_in + U.stage_bias[stage].x;
+    let bias = U.stage_bias[stage].x;
+    var lod = lod_in + bias;
+    if lod_in == MAG_LOD {
+        // -infinity + bias: NaN for a NaN or +infinity bias, -infinity (any lod <= 0) otherwise.
+        lod = select(MAG_LOD, 0.0, is_nan(bias) || bitcast<u32>(bias) == 0x7f800000u);
+    }
     if is_nan(lod) {
         lod = 0.0;
     }

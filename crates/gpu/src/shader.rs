@@ -306,7 +306,7 @@ fn gen_point(key: &PipelineKey, drop: &str, out: &mut String) {
     if key.flat {
         let mut args = String::from("unpack_color(p.diffuse), unpack_color(p.specular)");
         for i in sampling_stages(key) {
-            let _ = write!(args, ", vertex_coords(index, {i}u), -1.0e30");
+            let _ = write!(args, ", vertex_coords(index, {i}u), MAG_LOD");
         }
         let _ = writeln!(
             out,
