@@ -22,6 +22,7 @@
 
 mod raster;
 mod simd;
+mod stage;
 #[cfg(test)]
 mod test_rng;
 

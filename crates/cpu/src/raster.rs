@@ -1,11 +1,12 @@
 //! Rasterization: the per-point stage from core, then the covered pixels through the pixel
 //! pipeline, with the result of drawing the points one after another (SPEC 4, 5.5).
 //!
-//! Parallel plan: points are binned in parallel into bands of [`BAND_ROWS`] target rows (a list
-//! of point indices per band, in vertex order); bands are then filled in parallel, each applying
-//! its points in vertex order to pixels no other band touches. Every pixel therefore sees the
-//! same operations in the same order whatever the thread count, and the output is bit-identical
-//! to sequential drawing.
+//! Parallel plan: points run through the per-point stage once, in parallel chunks, and each
+//! chunk sorts a compact copy of its points into bands of [`BAND_ROWS`] target rows (vertex
+//! order kept within a band); bands are then filled in parallel, each reading its points in one
+//! sequential sweep and applying them in vertex order to pixels no other band touches. Every
+//! pixel therefore sees the same operations in the same order whatever the thread count, and
+//! the output is bit-identical to sequential drawing.
 //!
 //! States are resolved once per draw. The pixel loop is monomorphised on the blend family
 //! (replace, additive, source-alpha, general) and the shading kind (the diffuse colour, one
@@ -30,7 +31,8 @@ use pointillist_core::states::{Blend, BlendOp, TA_CURRENT, TA_DIFFUSE, TA_TEXTUR
 use pointillist_core::texture::{LodSampler, SamplerDesc, Texture, linear_texel, point_texel};
 use rayon::prelude::*;
 
-use crate::simd::F4;
+use crate::simd::{F4, P4};
+use crate::stage::{Square, SquareStage};
 
 /// Target rows per band: small enough to spread work over threads, large enough that small
 /// sprites rarely straddle two bands.
@@ -42,11 +44,21 @@ const PARALLEL_MIN_POINTS: u32 = 2048;
 trait Blender: Sync {
     fn blend(&self, src: u32, dst: u32) -> u32;
 
-    /// Blends `src` into every pixel of `row` through the channel mask (SPEC 5.5, 5.6).
+    /// [`Blender::blend`] of four pixels: `src` packed and as [`P4`] (the same colours).
     #[inline(always)]
-    fn blend_row(&self, src: u32, row: &mut [u32], mask: u32) {
-        for px in row {
-            *px = write_masked(mask, self.blend(src, *px), *px);
+    fn blend4(&self, src: [u32; 4], _src: &P4, dst: [u32; 4]) -> [u32; 4] {
+        std::array::from_fn(|i| self.blend(src[i], dst[i]))
+    }
+
+    /// Blends `src` into the pixels `r` (inside `band`) through the channel mask (SPEC 5.5,
+    /// 5.6).
+    #[inline(always)]
+    fn blend_rect(&self, src: u32, band: &mut Band, r: PixelRect, mask: u32) {
+        for j in rows(r, band) {
+            let row = (j - band.y0) as usize * band.width;
+            for px in &mut band.color[row + r.x0 as usize..row + r.x1 as usize] {
+                *px = write_masked(mask, self.blend(src, *px), *px);
+            }
         }
     }
 }
@@ -70,8 +82,22 @@ impl Blender for Additive {
     }
 
     #[inline(always)]
-    fn blend_row(&self, src: u32, row: &mut [u32], mask: u32) {
-        crate::simd::add_row(row, src, mask);
+    fn blend4(&self, src: [u32; 4], _: &P4, dst: [u32; 4]) -> [u32; 4] {
+        crate::simd::add_pixels(src, dst)
+    }
+
+    #[inline(always)]
+    fn blend_rect(&self, src: u32, band: &mut Band, r: PixelRect, mask: u32) {
+        let rows = rows(r, band);
+        if rows.is_empty() {
+            return;
+        }
+        let (r0, r1) = (
+            (rows.start - band.y0) as usize,
+            (rows.end - band.y0) as usize,
+        );
+        let cols = (r.x0 as usize, r.x1 as usize);
+        crate::simd::add_rect(band.color, band.width, cols, (r0, r1), src, mask);
     }
 }
 
@@ -85,6 +111,11 @@ impl Blender for SourceAlpha {
         let fs = s.alpha();
         let fd = F4::splat(1.0).sub(fs);
         s.mul(fs).add(d.mul(fd)).to_argb()
+    }
+
+    #[inline(always)]
+    fn blend4(&self, _: [u32; 4], src: &P4, dst: [u32; 4]) -> [u32; 4] {
+        P4::source_alpha(*src, P4::from_argb(dst)).to_argb()
     }
 }
 
@@ -179,6 +210,7 @@ impl<'a> StageTexture<'a> {
 /// Everything resolved once per draw.
 struct DrawContext<'a> {
     points: PointSetup,
+    squares: SquareStage,
     pixel: PixelSetup,
     shading: Shading,
     textures: [Option<StageTexture<'a>>; MAX_STAGES],
@@ -192,6 +224,87 @@ struct Scratch {
     u: Vec<f32>,
     /// Texel column per covered column, for [`fill_modulate`].
     cols: Vec<Column>,
+    /// The covered columns four at a time, for [`fill_modulate`] with linear filtering.
+    groups: Vec<Group>,
+    /// Filtered texel rows, for [`fill_modulate`] with linear filtering.
+    texel_rows: TexelRows,
+}
+
+/// Four consecutive covered columns of a linear-filtered sprite with one MODULATE stage, as
+/// [`filter_row`] reads them.
+#[derive(Copy, Clone)]
+struct Group {
+    /// The first texel column each column reads; 0 where the core sampler decides.
+    left: [u32; 4],
+    /// The second texel column; 0 where the core sampler decides.
+    right: [u32; 4],
+    /// Weights of `right`.
+    fx: [f32; 4],
+    /// All four columns exist and read their texels directly.
+    direct: bool,
+}
+
+impl Group {
+    fn new(cols: &[Column]) -> Group {
+        let column = |i: usize| cols.get(i).filter(|c| c.k >= 0);
+        Group {
+            left: std::array::from_fn(|i| column(i).map_or(0, |c| c.k as u32)),
+            right: std::array::from_fn(|i| column(i).map_or(0, |c| c.k as u32 + 1)),
+            fx: std::array::from_fn(|i| column(i).map_or(0.0, |c| c.fx)),
+            direct: (0..4).all(|i| column(i).is_some()),
+        }
+    }
+}
+
+/// The horizontal lerps `lerp(t[l][k], t[l][k + 1], fx)` of two texel rows `l` and `l + 1` at
+/// every covered column of a sprite (the first half of SPEC 5.2's bilinear filter), four
+/// columns to a [`P4`], kept from one pixel row to the next: consecutive pixel rows read the
+/// same or the next texel rows.
+#[derive(Default)]
+struct TexelRows {
+    rows: [Vec<P4>; 2],
+    /// The texel row each of `rows` holds; -1 for none.
+    tags: [i64; 2],
+}
+
+impl TexelRows {
+    /// Forgets the rows: the next sprite has other columns.
+    fn reset(&mut self) {
+        self.tags = [-1; 2];
+    }
+
+    /// Rows `l` and `l + 1` of the `width`-texel rows `texels`, filtered at `cols`; both
+    /// rows are inside the level, and so are `k` and `k + 1` of every column with `k >= 0`.
+    fn pair(&mut self, texels: &[u32], width: usize, groups: &[Group], l: i64) -> [&[P4]; 2] {
+        if self.tags[0] != l {
+            if self.tags[1] == l {
+                self.rows.swap(0, 1);
+                self.tags.swap(0, 1);
+            } else {
+                filter_row(&mut self.rows[0], &texels[l as usize * width..], groups);
+                self.tags[0] = l;
+            }
+        }
+        if self.tags[1] != l + 1 {
+            filter_row(
+                &mut self.rows[1],
+                &texels[(l as usize + 1) * width..],
+                groups,
+            );
+            self.tags[1] = l + 1;
+        }
+        [&self.rows[0], &self.rows[1]]
+    }
+}
+
+/// One texel row's horizontal lerps at `groups` (meaningless where the core sampler decides).
+fn filter_row(out: &mut Vec<P4>, row: &[u32], groups: &[Group]) {
+    out.clear();
+    out.extend(groups.iter().map(|g| {
+        let left = P4::from_argb(g.left.map(|k| row[k as usize]));
+        let right = P4::from_argb(g.right.map(|k| row[k as usize]));
+        P4::lerp(left, right, g.fx)
+    }));
 }
 
 /// One covered column of a sprite with one MODULATE stage.
@@ -239,8 +352,10 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
             set: stage.texcoord_set,
         })
     });
+    let points = PointSetup::new(state, fvf);
     DrawContext {
-        points: PointSetup::new(state, fvf),
+        squares: SquareStage::new(&points),
+        points,
         shading: shading(&pixel),
         pixel,
         textures,
@@ -249,45 +364,60 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
 }
 
 fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget) {
-    let count = (ctx.vertices.len() / ctx.points.layout().stride) as u32;
-    let width = target.width as usize;
-    let threads = rayon::current_num_threads();
-    if threads <= 1 || count < PARALLEL_MIN_POINTS {
-        let mut band = Band {
-            color: &mut target.color,
-            depth: &mut target.depth,
-            width,
-            y0: 0,
-            y1: target.height as i32,
-        };
-        let mut scratch = Scratch::default();
-        for index in 0..count {
-            if let Some(p) = ctx.points.process(ctx.vertices, index) {
-                fill(ctx, b, &p, &mut band, &mut scratch);
-            }
-        }
-        return;
-    }
     let pixel_planes = ctx.points.scaled_planes() && !ctx.points.user_planes().is_empty();
     if pixel_planes {
-        draw_binned::<B, Index>(ctx, b, target, count, threads);
+        draw_points::<B, Index>(ctx, b, target);
     } else if ctx.pixel.is_flat() && ctx.shading == Shading::Diffuse {
-        draw_binned::<B, Solid>(ctx, b, target, count, threads);
+        draw_points::<B, Solid>(ctx, b, target);
     } else if !ctx.pixel.is_flat() && matches!(ctx.shading, Shading::Modulate(_)) {
-        draw_binned::<B, Sprite>(ctx, b, target, count, threads);
+        draw_points::<B, Sprite>(ctx, b, target);
     } else {
-        draw_binned::<B, Index>(ctx, b, target, count, threads);
+        draw_points::<B, Index>(ctx, b, target);
     }
+}
+
+/// Small draws, and every draw on one thread, run one point after another on the calling
+/// thread; the rest follow the parallel plan of the module contract with bins of `P`.
+fn draw_points<B: Blender, P: Binned>(ctx: &DrawContext, b: &B, target: &mut RenderTarget) {
+    let count = (ctx.vertices.len() / ctx.points.layout().stride) as u32;
+    let threads = rayon::current_num_threads();
+    if threads > 1 && count >= PARALLEL_MIN_POINTS {
+        return draw_binned::<B, P>(ctx, b, target, count, threads);
+    }
+    let mut band = Band {
+        color: &mut target.color,
+        depth: &mut target.depth,
+        width: target.width as usize,
+        y0: 0,
+        y1: target.height as i32,
+    };
+    P::draw_sequential(ctx, b, &mut band, count, &mut Scratch::default());
 }
 
 /// What a bin keeps of a point: enough to fill it without running the per-point stage again.
 trait Binned: Copy + Send + Sync {
     /// The compact form of `p`, vertex `index` of the draw; `None` when it writes no pixel.
-    fn new(ctx: &DrawContext, p: &ScreenPoint, index: u32) -> Option<Self>;
+    fn new(ctx: &DrawContext, p: &Square, index: u32) -> Option<Self>;
     /// First and one-past-last covered row.
     fn rows(&self) -> (i32, i32);
     /// Fills the point's pixels inside `band`, as [`fill`] does.
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch);
+
+    /// Draws the first `count` vertices one after another into `band`.
+    fn draw_sequential<B: Blender>(
+        ctx: &DrawContext,
+        b: &B,
+        band: &mut Band,
+        count: u32,
+        s: &mut Scratch,
+    ) {
+        ctx.squares
+            .for_each(&ctx.points, ctx.vertices, 0..count, |index, p| {
+                if let Some(c) = Self::new(ctx, p, index) {
+                    c.fill(ctx, b, band, s);
+                }
+            });
+    }
 }
 
 /// Any point: its vertex index and rows; the fill runs the per-point stage again (it is
@@ -298,7 +428,7 @@ struct Index {
     rows: [u16; 2],
 }
 impl Binned for Index {
-    fn new(_: &DrawContext, p: &ScreenPoint, vertex: u32) -> Option<Index> {
+    fn new(_: &DrawContext, p: &Square, vertex: u32) -> Option<Index> {
         Some(Index {
             vertex,
             rows: [p.rect.y0 as u16, p.rect.y1 as u16],
@@ -310,6 +440,21 @@ impl Binned for Index {
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
         if let Some(p) = ctx.points.process(ctx.vertices, self.vertex) {
             fill(ctx, b, &p, band, s);
+        }
+    }
+
+    /// The per-point stage once per point, straight into [`fill`].
+    fn draw_sequential<B: Blender>(
+        ctx: &DrawContext,
+        b: &B,
+        band: &mut Band,
+        count: u32,
+        s: &mut Scratch,
+    ) {
+        for index in 0..count {
+            if let Some(p) = ctx.points.process(ctx.vertices, index) {
+                fill(ctx, b, &p, band, s);
+            }
         }
     }
 }
@@ -346,7 +491,7 @@ struct Solid {
 }
 impl Binned for Solid {
     #[inline]
-    fn new(ctx: &DrawContext, p: &ScreenPoint, _: u32) -> Option<Solid> {
+    fn new(ctx: &DrawContext, p: &Square, _: u32) -> Option<Solid> {
         alpha_test_passes(ctx.pixel.alpha_test, p.diffuse).then_some(Solid {
             rect: Rect16::new(p.rect),
             z: p.z,
@@ -376,7 +521,7 @@ struct Sprite {
 }
 impl Binned for Sprite {
     #[inline]
-    fn new(_: &DrawContext, p: &ScreenPoint, _: u32) -> Option<Sprite> {
+    fn new(_: &DrawContext, p: &Square, _: u32) -> Option<Sprite> {
         Some(Sprite {
             rect: Rect16::new(p.rect),
             z: p.z,
@@ -410,13 +555,12 @@ impl Binned for Sprite {
     }
 }
 
-/// One chunk of the draw's points, binned: `points` in vertex order, and for each band `n`
-/// the positions in `points` of those touching it, `order[starts[n]..starts[n + 1]]`,
-/// ascending.
+/// One chunk of the draw's points, binned: the points touching band `n` are
+/// `points[starts[n]..starts[n + 1]]`, in vertex order (a point touching two bands is there
+/// twice), so each band reads its points in one sequential sweep.
 struct Chunk<P> {
     points: Vec<P>,
     starts: Vec<u32>,
-    order: Vec<u32>,
 }
 
 /// The bands of [`BAND_ROWS`] rows that rows `y0..y1` touch.
@@ -427,34 +571,37 @@ fn bands_of((y0, y1): (i32, i32)) -> std::ops::RangeInclusive<usize> {
 
 /// Runs the per-point stage on vertices `range` once, keeping `P` per point, and bins them.
 fn bin<P: Binned>(ctx: &DrawContext, range: std::ops::Range<u32>, bands: usize) -> Chunk<P> {
-    let mut points = Vec::with_capacity(range.len());
+    let mut unsorted = Vec::with_capacity(range.len());
     let mut starts = vec![0u32; bands + 1];
-    for index in range {
-        if let Some(p) = ctx.points.process(ctx.vertices, index) {
-            if let Some(c) = P::new(ctx, &p, index) {
+    ctx.squares
+        .for_each(&ctx.points, ctx.vertices, range, |index, p| {
+            if let Some(c) = P::new(ctx, p, index) {
                 for n in bands_of(c.rows()) {
                     starts[n + 1] += 1;
                 }
-                points.push(c);
+                unsorted.push(c);
             }
-        }
-    }
+        });
     for n in 0..bands {
         starts[n + 1] += starts[n];
     }
-    let mut order = vec![0u32; starts[bands] as usize];
+    // A counting sort by band, stable, so each band keeps vertex order; every slot is
+    // overwritten (`next[n]` runs from `starts[n]` to `starts[n + 1]`).
+    let Some(&first) = unsorted.first() else {
+        return Chunk {
+            points: unsorted,
+            starts,
+        };
+    };
+    let mut points = vec![first; starts[bands] as usize];
     let mut next = starts.clone();
-    for (k, c) in points.iter().enumerate() {
+    for c in &unsorted {
         for n in bands_of(c.rows()) {
-            order[next[n] as usize] = k as u32;
+            points[next[n] as usize] = *c;
             next[n] += 1;
         }
     }
-    Chunk {
-        points,
-        starts,
-        order,
-    }
+    Chunk { points, starts }
 }
 
 /// The parallel plan of the module contract with bins of `P`.
@@ -490,8 +637,8 @@ fn draw_binned<B: Blender, P: Binned>(
             };
             let mut scratch = Scratch::default();
             for c in &chunks {
-                for &k in &c.order[c.starts[n] as usize..c.starts[n + 1] as usize] {
-                    c.points[k as usize].fill(ctx, b, &mut band, &mut scratch);
+                for p in &c.points[c.starts[n] as usize..c.starts[n + 1] as usize] {
+                    p.fill(ctx, b, &mut band, &mut scratch);
                 }
             }
         });
@@ -555,7 +702,7 @@ fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut B
 
 /// The pixels `rect` (inside `band`) of a point of one colour `color` at depth `z` that passed
 /// the alpha test: depth test, blend and mask per pixel (SPEC 5.4 to 5.6).
-#[inline]
+#[inline(always)]
 fn fill_solid<B: Blender>(
     ctx: &DrawContext,
     b: &B,
@@ -564,19 +711,13 @@ fn fill_solid<B: Blender>(
     color: u32,
     band: &mut Band,
 ) {
-    let (x0, x1) = (r.x0 as usize, r.x1 as usize);
     if ctx.pixel.depth.is_none() {
         // The common particle case: whole rows, blend and mask only.
-        let mask = ctx.pixel.write_mask;
-        for j in rows(r, band) {
-            let row = (j - band.y0) as usize * band.width;
-            b.blend_row(color, &mut band.color[row + x0..row + x1], mask);
-        }
-        return;
+        return b.blend_rect(color, band, r, ctx.pixel.write_mask);
     }
     for j in rows(r, band) {
         let row = (j - band.y0) as usize * band.width;
-        for at in row + x0..row + x1 {
+        for at in row + r.x0 as usize..row + r.x1 as usize {
             write_pixel(ctx, b, band, at, z, color);
         }
     }
@@ -639,23 +780,26 @@ fn fill_modulate<B: Blender>(
     };
     let sampler = t.sprite_sampler(p.size);
     if sampler.is_linear() {
-        fill_modulate_with::<B, true>(ctx, b, p, band, &mut s.cols, alpha, &sampler);
+        fill_modulate_with::<B, true>(ctx, b, p, band, s, alpha, &sampler);
     } else {
-        fill_modulate_with::<B, false>(ctx, b, p, band, &mut s.cols, alpha, &sampler);
+        fill_modulate_with::<B, false>(ctx, b, p, band, s, alpha, &sampler);
     }
 }
 
 /// [`fill_modulate`] for linear (`LINEAR`) or point filtering: texel indices and weights per
-/// column and per row, then per pixel two or eight texel reads where they are inside the level.
+/// column and per row, then per pixel one texel read (point) or one vertical lerp of two
+/// filtered texel rows ([`TexelRows`], linear) where the texels are inside the level.
 fn fill_modulate_with<B: Blender, const LINEAR: bool>(
     ctx: &DrawContext,
     b: &B,
     p: &ScreenPoint,
     band: &mut Band,
-    cols: &mut Vec<Column>,
+    s: &mut Scratch,
     alpha: ModulateAlpha,
     sampler: &LodSampler,
 ) {
+    let (cols, groups, texel_rows) = (&mut s.cols, &mut s.groups, &mut s.texel_rows);
+    texel_rows.reset();
     let level = sampler.level();
     let single = sampler.mip_blend().is_none();
     let (w, h) = (level.width, level.height);
@@ -673,6 +817,16 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
         let k = if inside(k, w) { k as i32 } else { -1 };
         Column { u, k, fx }
     }));
+    let planes = p.pixel_planes();
+    // Spans of four pixels need every pixel written the same way: no clip planes, no depth.
+    // With linear filtering they read filtered texel rows, which pay for sprites four columns
+    // wide or more.
+    let spans = planes.is_empty() && ctx.pixel.depth.is_none();
+    let filtered_rows = LINEAR && spans && cols.len() >= 4;
+    groups.clear();
+    if filtered_rows {
+        groups.extend(cols.chunks(4).map(Group::new));
+    }
     let d = F4::from_argb(p.diffuse);
     // The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
     // passes through unchanged.
@@ -681,8 +835,10 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
         ModulateAlpha::Modulate | ModulateAlpha::Diffuse => d,
     };
     let diffuse_alpha = alpha == ModulateAlpha::Diffuse;
-    let planes = p.pixel_planes();
+    let (m4, d4) = (P4::splat(m.lanes()), P4::splat(d.lanes()));
+    let mask = ctx.pixel.write_mask;
     let width = w as usize;
+    let len = cols.len();
     for j in rows(p.rect, band) {
         let v = sprite_coord(j, p.top, p.size);
         let (l, fy) = if LINEAR {
@@ -690,18 +846,56 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
         } else {
             (point_texel(v, h), 0.0)
         };
-        let texels: &[u32] = if inside(l, h) {
+        let direct = inside(l, h);
+        // Texel rows l (and l + 1 when filtering), and their horizontal lerps for the spans.
+        let texels: &[u32] = if direct {
             &level.texels[l as usize * width..]
         } else {
             &[]
         };
-        let fy = F4::splat(fy);
-        let row = (j - band.y0) as usize * band.width;
-        for (i, c) in (p.rect.x0..p.rect.x1).zip(cols.iter()) {
-            if !planes.iter().all(|pl| pl.keeps(i, j)) {
+        let [top, bottom] = if direct && filtered_rows {
+            texel_rows.pair(&level.texels, width, groups, l)
+        } else {
+            [&[][..], &[][..]]
+        };
+        let row = (j - band.y0) as usize * band.width + p.rect.x0 as usize;
+        let mut n = 0;
+        while n < len {
+            let four = &cols[n..len.min(n + 4)];
+            let direct4 = if LINEAR {
+                filtered_rows && groups[n / 4].direct
+            } else {
+                four.len() == 4 && four.iter().all(|c| c.k >= 0)
+            };
+            if spans && direct && n % 4 == 0 && direct4 {
+                // Four pixels at once, the arithmetic below lane by lane.
+                let texel = if LINEAR {
+                    P4::lerp_by(top[n / 4], bottom[n / 4], fy)
+                } else {
+                    P4::from_argb(std::array::from_fn(|i| texels[four[i].k as usize]))
+                };
+                let mut shaded = texel.mul(m4);
+                if diffuse_alpha {
+                    shaded = shaded.with_alpha_of(d4);
+                }
+                let (src, src4) = shaded.quantize();
+                let at = row + n;
+                let old: [u32; 4] = std::array::from_fn(|i| band.color[at + i]);
+                let new = b.blend4(src, &src4, old);
+                for i in 0..4 {
+                    if alpha_test_passes(ctx.pixel.alpha_test, src[i]) {
+                        band.color[at + i] = write_masked(mask, new[i], old[i]);
+                    }
+                }
+                n += 4;
                 continue;
             }
-            let texel = if c.k >= 0 && !texels.is_empty() {
+            let (i, c) = (p.rect.x0 + n as i32, &cols[n]);
+            n += 1;
+            if !planes.is_empty() && !planes.iter().all(|pl| pl.keeps(i, j)) {
+                continue;
+            }
+            let texel = if c.k >= 0 && direct {
                 let at = c.k as usize;
                 if LINEAR {
                     let fx = F4::splat(c.fx);
@@ -712,7 +906,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                         F4::from_argb(texels[at + width + 1]),
                         fx,
                     );
-                    F4::lerp(top, bottom, fy)
+                    F4::lerp(top, bottom, F4::splat(fy))
                 } else {
                     F4::from_argb(texels[at])
                 }
@@ -725,7 +919,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
             }
             let color = shaded.to_argb();
             if alpha_test_passes(ctx.pixel.alpha_test, color) {
-                write_pixel(ctx, b, band, row + i as usize, p.z, color);
+                write_pixel(ctx, b, band, row + n - 1, p.z, color);
             }
         }
     }

@@ -1,7 +1,8 @@
 //! Four colour channels at once: [`F4`], four f32 lanes in D3DCOLOR byte order (blue, green, red,
 //! alpha), for the pixel loop's float arithmetic (SPEC 1, 5.1, 5.2, 5.5); and the ONE/ONE blend
-//! as a saturating byte add, of one pixel ([`add_pixel`]) or of one colour into a row of pixels,
-//! four pixels at a time ([`add_row`]).
+//! as a saturating byte add, of one pixel ([`add_pixel`]) or of one colour into a row or a
+//! rectangle of pixels, four pixels at a time ([`add_rect`]); and the pre-transformed
+//! point stage's tests and ceilings four coordinates at a time ([`all_finite`], [`ceil_clamped`]).
 //!
 //! Contract: every operation is, lane by lane, the exact IEEE f32 operation the scalar reference
 //! performs on that channel (`color::unpack`, `color::pack`, the sampler's lerp, the blend
@@ -75,6 +76,12 @@ impl F4 {
         a.add(b.sub(a).mul(t))
     }
 
+    /// The four lanes (blue, green, red, alpha).
+    #[inline(always)]
+    pub(crate) fn lanes(self) -> [f32; 4] {
+        imp::lanes(self.0)
+    }
+
     /// The alpha lane in every lane.
     #[inline(always)]
     pub(crate) fn alpha(self) -> F4 {
@@ -88,6 +95,89 @@ impl F4 {
     }
 }
 
+/// Four pixels, channel-planar: plane `c` (blue, green, red, alpha) holds channel `c` of pixels
+/// 0 to 3, one per lane. Each operation is, pixel by pixel, the [`F4`] operation of the same
+/// name, so a span of four pixels gives the bits four single pixels give.
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct P4([imp::V; 4]);
+
+impl P4 {
+    /// [`F4::from_argb`] of each of four D3DCOLORs.
+    #[inline(always)]
+    pub(crate) fn from_argb(px: [u32; 4]) -> P4 {
+        P4(imp::unpack_planes(px))
+    }
+
+    /// One colour in all four pixels.
+    #[inline(always)]
+    pub(crate) fn splat(c: [f32; 4]) -> P4 {
+        P4(c.map(imp::splat))
+    }
+
+    /// Pixel `i`, for the tests.
+    #[cfg(test)]
+    pub(crate) fn pixel(&self, i: usize) -> F4 {
+        F4(imp::from_lanes(self.0.map(|p| imp::lanes(p)[i])))
+    }
+
+    /// [`F4::lerp`] with weight `t[i]` for pixel `i`.
+    #[inline(always)]
+    pub(crate) fn lerp(a: P4, b: P4, t: [f32; 4]) -> P4 {
+        let t = imp::from_lanes(t);
+        P4(std::array::from_fn(|c| {
+            imp::add(a.0[c], imp::mul(imp::sub(b.0[c], a.0[c]), t))
+        }))
+    }
+
+    /// [`F4::lerp`] with one weight for the four pixels.
+    #[inline(always)]
+    pub(crate) fn lerp_by(a: P4, b: P4, t: f32) -> P4 {
+        P4::lerp(a, b, [t; 4])
+    }
+
+    /// [`F4::mul`] of every pixel by `m`.
+    #[inline(always)]
+    pub(crate) fn mul(self, m: P4) -> P4 {
+        P4(std::array::from_fn(|c| imp::mul(self.0[c], m.0[c])))
+    }
+
+    /// The alpha plane of `o` in place of this one ([`F4::with_alpha_of`]).
+    #[inline(always)]
+    pub(crate) fn with_alpha_of(self, o: P4) -> P4 {
+        P4([self.0[0], self.0[1], self.0[2], o.0[3]])
+    }
+
+    /// [`F4::to_argb`] of each pixel, and [`F4::from_argb`] of those colours.
+    #[inline(always)]
+    pub(crate) fn quantize(self) -> ([u32; 4], P4) {
+        let units = self.0.map(imp::round_unorm);
+        (imp::pack_planes(units), P4(units.map(imp::unit_of)))
+    }
+
+    /// [`F4::to_argb`] of each pixel.
+    #[inline(always)]
+    pub(crate) fn to_argb(self) -> [u32; 4] {
+        imp::pack_planes(self.0.map(imp::round_unorm))
+    }
+
+    /// SRCALPHA, INVSRCALPHA, ADD: `s * a + d * (1 - a)` per pixel, `a` the source alpha, as
+    /// the source-alpha blender computes it on [`F4`].
+    #[inline(always)]
+    pub(crate) fn source_alpha(s: P4, d: P4) -> P4 {
+        let fs = s.0[3];
+        let fd = imp::sub(imp::splat(1.0), fs);
+        P4(std::array::from_fn(|c| {
+            imp::add(imp::mul(s.0[c], fs), imp::mul(d.0[c], fd))
+        }))
+    }
+}
+
+/// [`add_pixel`] of four pixels.
+#[inline(always)]
+pub(crate) fn add_pixels(src: [u32; 4], dst: [u32; 4]) -> [u32; 4] {
+    imp::add_pixels(src, dst)
+}
+
 /// SPEC 5.5 for ONE, ONE, ADD: the per-channel saturating sum of `src` and `dst`, which is what
 /// the float formula rounds to (see the additive blender's test).
 #[inline(always)]
@@ -95,12 +185,38 @@ pub(crate) fn add_pixel(src: u32, dst: u32) -> u32 {
     imp::add_pixel(src, dst)
 }
 
-/// SPEC 5.5 and 5.6 for ONE, ONE, ADD: `row[i] = write_masked(mask, add_pixel(color, row[i]),
-/// row[i])`, the saturating byte add the float formula rounds to (see the additive blender's
-/// test), four pixels at a time.
+/// SPEC 5.5 and 5.6 for ONE, ONE, ADD over the rectangle of columns `x0..x1` and rows `r0..r1`
+/// of `color`, rows `pitch` pixels apart: `px = write_masked(mask, add_pixel(c, px), px)`, the
+/// saturating byte add the float formula rounds to (see the additive blender's test), four
+/// pixels at a time.
+///
+/// # Panics
+/// When the rectangle is not inside `color` (checked once, before any pixel is written).
 #[inline(always)]
-pub(crate) fn add_row(row: &mut [u32], color: u32, mask: u32) {
-    imp::add_row(row, color, mask)
+pub(crate) fn add_rect(
+    color: &mut [u32],
+    pitch: usize,
+    cols: (usize, usize),
+    rows: (usize, usize),
+    c: u32,
+    mask: u32,
+) {
+    let ((x0, x1), (r0, r1)) = (cols, rows);
+    assert!(x0 <= x1 && x1 <= pitch && r0 <= r1 && r1 * pitch <= color.len());
+    imp::add_rect(color, pitch, x0, x1, r0, r1, c, mask)
+}
+
+/// True when no lane is NaN or infinite (SPEC 3.1).
+#[inline(always)]
+pub(crate) fn all_finite(v: [f32; 4]) -> bool {
+    imp::all_finite(v)
+}
+
+/// Lane by lane `ceil(v.max(lo).min(hi))` as i32, for `v` not NaN and integer bounds in
+/// `0..=2^24` (the clamped value is then exact in i32 and truncation is `floor`).
+#[inline(always)]
+pub(crate) fn ceil_clamped(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [i32; 4] {
+    imp::ceil_clamped(v, lo, hi)
 }
 
 /// The scalar twin: plain per-lane arithmetic.
@@ -156,6 +272,40 @@ mod scalar {
         [a[0], a[1], a[2], o[3]]
     }
 
+    /// Integer lanes.
+    pub(crate) type I = [i32; 4];
+
+    #[inline(always)]
+    pub(crate) fn lanes(v: V) -> [f32; 4] {
+        v
+    }
+
+    #[inline(always)]
+    pub(crate) fn unpack_planes(px: [u32; 4]) -> [V; 4] {
+        let lanes = px.map(from_argb);
+        std::array::from_fn(|c| std::array::from_fn(|i| lanes[i][c]))
+    }
+
+    #[inline(always)]
+    pub(crate) fn round_unorm(v: V) -> I {
+        v.map(|x| i32::from(f32_to_unorm8(x)))
+    }
+
+    #[inline(always)]
+    pub(crate) fn unit_of(t: I) -> V {
+        t.map(|x| unorm8_to_f32(x as u8))
+    }
+
+    #[inline(always)]
+    pub(crate) fn pack_planes(p: [I; 4]) -> [u32; 4] {
+        std::array::from_fn(|i| u32::from_le_bytes(p.map(|plane| plane[i] as u8)))
+    }
+
+    #[inline(always)]
+    pub(crate) fn add_pixels(src: [u32; 4], dst: [u32; 4]) -> [u32; 4] {
+        std::array::from_fn(|i| add_pixel(src[i], dst[i]))
+    }
+
     #[inline(always)]
     pub(crate) fn add_pixel(src: u32, dst: u32) -> u32 {
         let (s, d) = (src.to_le_bytes(), dst.to_le_bytes());
@@ -167,6 +317,33 @@ mod scalar {
         for px in row {
             *px = write_masked(mask, add_pixel(color, *px), *px);
         }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn add_rect(
+        color: &mut [u32],
+        pitch: usize,
+        x0: usize,
+        x1: usize,
+        r0: usize,
+        r1: usize,
+        c: u32,
+        mask: u32,
+    ) {
+        for r in r0..r1 {
+            add_row(&mut color[r * pitch + x0..r * pitch + x1], c, mask);
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn all_finite(v: [f32; 4]) -> bool {
+        v.iter().all(|x| x.is_finite())
+    }
+
+    #[inline(always)]
+    pub(crate) fn ceil_clamped(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [i32; 4] {
+        std::array::from_fn(|i| v[i].max(lo[i]).min(hi[i]).ceil() as i32)
     }
 }
 
@@ -255,25 +432,72 @@ mod sse2 {
         }
     }
 
+    /// Integer lanes.
+    pub(crate) type I = __m128i;
+
     #[inline(always)]
-    pub(crate) fn add_row(row: &mut [u32], color: u32, mask: u32) {
-        let mut quads = row.chunks_exact_mut(4);
-        // SAFETY: as in `from_argb`; each load and store touches exactly the 16 bytes of one
-        // `quad`, four `u32` of the row, which `loadu`/`storeu` allow at any alignment.
+    pub(crate) fn unpack_planes(px: [u32; 4]) -> [V; 4] {
+        // SAFETY: as in `from_argb`; `loadu` reads the four u32 of `px`.
         unsafe {
-            let c = _mm_set1_epi32(color as i32);
-            let m = _mm_set1_epi32(mask as i32);
-            for quad in &mut quads {
-                let at = quad.as_mut_ptr().cast::<__m128i>();
-                let old = _mm_loadu_si128(at);
-                let sum = _mm_adds_epu8(old, c);
-                let new = _mm_or_si128(_mm_and_si128(sum, m), _mm_andnot_si128(m, old));
-                _mm_storeu_si128(at, new);
-            }
+            let p = _mm_loadu_si128(px.as_ptr().cast::<__m128i>());
+            let byte = _mm_set1_epi32(0xFF);
+            let unit = _mm_set1_ps(1.0 / 255.0);
+            // Each channel as i32 lanes, then `f32::from(v) * (1.0 / 255.0)` as in `from_argb`.
+            let plane = |c: __m128i| _mm_mul_ps(_mm_cvtepi32_ps(_mm_and_si128(c, byte)), unit);
+            [
+                plane(p),
+                plane(_mm_srli_epi32::<8>(p)),
+                plane(_mm_srli_epi32::<16>(p)),
+                plane(_mm_srli_epi32::<24>(p)),
+            ]
         }
-        for px in quads.into_remainder() {
-            *px = write_masked(mask, add_pixel(color, *px), *px);
+    }
+
+    #[inline(always)]
+    pub(crate) fn round_unorm(v: V) -> I {
+        // SAFETY: as in `from_argb`. The lane arithmetic of `to_argb`, before its packing.
+        unsafe {
+            let x = _mm_mul_ps(
+                _mm_min_ps(_mm_max_ps(v, _mm_setzero_ps()), _mm_set1_ps(1.0)),
+                _mm_set1_ps(255.0),
+            );
+            let t = _mm_cvttps_epi32(x);
+            let up = _mm_cmpge_ps(_mm_sub_ps(x, _mm_cvtepi32_ps(t)), _mm_set1_ps(0.5));
+            _mm_sub_epi32(t, _mm_castps_si128(up))
         }
+    }
+
+    #[inline(always)]
+    pub(crate) fn unit_of(t: I) -> V {
+        // SAFETY: as in `from_argb`.
+        unsafe { _mm_mul_ps(_mm_cvtepi32_ps(t), _mm_set1_ps(1.0 / 255.0)) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn pack_planes(p: [I; 4]) -> [u32; 4] {
+        let mut out = [0u32; 4];
+        // SAFETY: as in `from_argb`; every lane is in 0..=255, so the shifted planes do not
+        // overlap; `storeu` writes the four u32 of `out`.
+        unsafe {
+            let px = _mm_or_si128(
+                _mm_or_si128(p[0], _mm_slli_epi32::<8>(p[1])),
+                _mm_or_si128(_mm_slli_epi32::<16>(p[2]), _mm_slli_epi32::<24>(p[3])),
+            );
+            _mm_storeu_si128(out.as_mut_ptr().cast::<__m128i>(), px);
+        }
+        out
+    }
+
+    #[inline(always)]
+    pub(crate) fn add_pixels(src: [u32; 4], dst: [u32; 4]) -> [u32; 4] {
+        let mut out = [0u32; 4];
+        // SAFETY: as in `from_argb`; the loads read and the store writes four u32 arrays.
+        unsafe {
+            let s = _mm_loadu_si128(src.as_ptr().cast::<__m128i>());
+            let d = _mm_loadu_si128(dst.as_ptr().cast::<__m128i>());
+            _mm_storeu_si128(out.as_mut_ptr().cast::<__m128i>(), _mm_adds_epu8(s, d));
+        }
+        out
     }
 
     #[inline(always)]
@@ -285,8 +509,81 @@ mod sse2 {
         }
     }
 
-    /// The lanes, for the tests.
-    #[cfg(test)]
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(crate) fn add_rect(
+        color: &mut [u32],
+        pitch: usize,
+        x0: usize,
+        x1: usize,
+        r0: usize,
+        r1: usize,
+        c: u32,
+        mask: u32,
+    ) {
+        let n = x1 - x0;
+        // SAFETY: the caller checked `x0 <= x1 <= pitch` and `r1 * pitch <= color.len()`, so
+        // pixels `r * pitch + x0 .. r * pitch + x1` of every row `r < r1` are inside `color`;
+        // each load and store touches four (or, in the tail, one) of them, at any alignment.
+        unsafe {
+            let base = color.as_mut_ptr();
+            let cv = _mm_set1_epi32(c as i32);
+            let m = _mm_set1_epi32(mask as i32);
+            for r in r0..r1 {
+                let row = base.add(r * pitch + x0);
+                let mut i = 0;
+                while i + 4 <= n {
+                    let at = row.add(i).cast::<__m128i>();
+                    let old = _mm_loadu_si128(at);
+                    let sum = _mm_adds_epu8(old, cv);
+                    _mm_storeu_si128(
+                        at,
+                        _mm_or_si128(_mm_and_si128(sum, m), _mm_andnot_si128(m, old)),
+                    );
+                    i += 4;
+                }
+                while i < n {
+                    let at = row.add(i);
+                    *at = write_masked(mask, add_pixel(c, *at), *at);
+                    i += 1;
+                }
+            }
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn all_finite(v: [f32; 4]) -> bool {
+        // SAFETY: as in `from_argb`; `loadu` reads the four f32 of `v` at any alignment.
+        unsafe {
+            // x * 0 is 0 for finite x and NaN for infinities and NaN.
+            let zero = _mm_setzero_ps();
+            let x = _mm_loadu_ps(v.as_ptr());
+            _mm_movemask_ps(_mm_cmpeq_ps(_mm_mul_ps(x, zero), zero)) == 0xF
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn ceil_clamped(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [i32; 4] {
+        let mut out = [0i32; 4];
+        // SAFETY: as in `from_argb`; the loads read the four f32 of each array and the store
+        // writes the four i32 of `out`, at any alignment.
+        unsafe {
+            let x = _mm_loadu_ps(v.as_ptr());
+            // Neither operand of max is NaN, so maxps/minps are f32::max/min.
+            let c = _mm_min_ps(
+                _mm_max_ps(x, _mm_loadu_ps(lo.as_ptr())),
+                _mm_loadu_ps(hi.as_ptr()),
+            );
+            let t = _mm_cvttps_epi32(c);
+            // Add one (subtract the -1 mask) where the truncation is below the value.
+            let up = _mm_cmplt_ps(_mm_cvtepi32_ps(t), c);
+            let t = _mm_sub_epi32(t, _mm_castps_si128(up));
+            _mm_storeu_si128(out.as_mut_ptr().cast::<__m128i>(), t);
+        }
+        out
+    }
+
+    #[inline(always)]
     pub(crate) fn lanes(v: V) -> [f32; 4] {
         let mut out = [0.0f32; 4];
         // SAFETY: as in `from_argb`; `out` is four writable f32, which `storeu` allows unaligned.
@@ -302,10 +599,7 @@ mod tests {
     use pointillist_core::color::{pack, unpack};
 
     fn lanes(v: F4) -> [f32; 4] {
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-        return sse2::lanes(v.0);
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-        return v.0;
+        v.lanes()
     }
 
     fn bits(v: [f32; 4]) -> [u32; 4] {
@@ -330,7 +624,7 @@ mod tests {
     }
 
     #[test]
-    fn spec_5_5_add_row_matches_the_scalar_twin_and_the_reference_blend() {
+    fn spec_5_5_add_rect_matches_the_scalar_twin_and_the_reference_blend() {
         use pointillist_core::pixel::{BlendSetup, blend, write_masked};
         use pointillist_core::states::{Blend, BlendOp};
         let setup = BlendSetup {
@@ -349,7 +643,7 @@ mod tests {
             let color = rng.next();
             let mask = [0xFFFF_FFFF, 0x00FF_FFFF, 0xFF00_FF00, rng.next()][rng.next() as usize % 4];
             let (mut ours, mut twin) = (row.clone(), row.clone());
-            add_row(&mut ours, color, mask);
+            add_rect(&mut ours, len, (0, len), (0, 1), color, mask);
             scalar::add_row(&mut twin, color, mask);
             assert_eq!(ours, twin, "{color:08x} {mask:08x}");
             for &old in &row {
@@ -359,6 +653,132 @@ mod tests {
                 let reference = write_masked(mask, blend(&setup, color, old), old);
                 assert_eq!(ours[k], reference, "{color:08x} {old:08x} {mask:08x}");
             }
+        }
+    }
+
+    #[test]
+    fn add_rect_matches_the_scalar_rows() {
+        let mut rng = Rng(0x7777_1234_ABCD_0003);
+        for _ in 0..5_000 {
+            let pitch = 1 + (rng.next() % 13) as usize;
+            let height = 1 + (rng.next() % 7) as usize;
+            let image: Vec<u32> = (0..pitch * height).map(|_| rng.next()).collect();
+            let x0 = (rng.next() as usize) % (pitch + 1);
+            let x1 = x0 + (rng.next() as usize) % (pitch - x0 + 1);
+            let r0 = (rng.next() as usize) % (height + 1);
+            let r1 = r0 + (rng.next() as usize) % (height - r0 + 1);
+            let any = rng.next();
+            let (c, mask) = (rng.next(), rng.pick(&[0xFFFF_FFFF, 0x00FF_00FF, any]));
+            let mut ours = image.clone();
+            add_rect(&mut ours, pitch, (x0, x1), (r0, r1), c, mask);
+            let mut twin = image;
+            scalar::add_rect(&mut twin, pitch, x0, x1, r0, r1, c, mask);
+            assert_eq!(ours, twin, "{pitch} {x0}..{x1} {r0}..{r1}");
+        }
+    }
+
+    #[test]
+    fn point_stage_lanes_match_the_scalar_twin() {
+        let mut rng = Rng(0x2468_ACE0_1357_9BDF);
+        let special = [
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            -0.0,
+            0.0,
+            f32::MAX,
+            1e-40,
+        ];
+        for _ in 0..200_000 {
+            let mut lane = || match rng.next() % 4 {
+                0 => rng.pick(&special),
+                1 => f32::from_bits(rng.next()),
+                _ => rng.range(-100.0, 20000.0),
+            };
+            let v = [lane(), lane(), lane(), lane()];
+            assert_eq!(all_finite(v), scalar::all_finite(v), "{v:?}");
+            if v.iter().any(|x| x.is_nan()) {
+                continue;
+            }
+            let lo = [0.0, 3.0, 0.0, 16.0];
+            let hi = [16384.0, 90.0, 1.0, 16384.0];
+            assert_eq!(
+                ceil_clamped(v, lo, hi),
+                scalar::ceil_clamped(v, lo, hi),
+                "{v:?}"
+            );
+        }
+    }
+
+    /// Every [`P4`] operation gives, pixel by pixel, the bits of the [`F4`] operation.
+    #[test]
+    fn planar_spans_match_four_single_pixels() {
+        let same = |p: F4, f: F4, what: &str| {
+            let (p, f) = (lanes(p), lanes(f));
+            for c in 0..4 {
+                assert!(
+                    p[c].to_bits() == f[c].to_bits() || (p[c].is_nan() && f[c].is_nan()),
+                    "{what}: {p:?} vs {f:?}"
+                );
+            }
+        };
+        let mut rng = Rng(0x4444_5555_6666_7777);
+        for _ in 0..50_000 {
+            let (a, b, m) = (
+                std::array::from_fn::<u32, 4, _>(|_| rng.next()),
+                std::array::from_fn::<u32, 4, _>(|_| rng.next()),
+                rng.next(),
+            );
+            let t: [f32; 4] = std::array::from_fn(|_| rng.float());
+            let (pa, pb) = (P4::from_argb(a), P4::from_argb(b));
+            let mf = F4::from_argb(m);
+            let mp = P4::splat(lanes(mf));
+            let lerped = P4::lerp(pa, pb, t);
+            let shaded = lerped.mul(mp).with_alpha_of(pb);
+            let (packed, quantized) = shaded.quantize();
+            let blended = P4::source_alpha(quantized, pa);
+            let single = P4::lerp_by(pa, pb, t[0]);
+            for i in 0..4 {
+                let (fa, fb) = (F4::from_argb(a[i]), F4::from_argb(b[i]));
+                same(pa.pixel(i), fa, "from_argb");
+                same(mp.pixel(i), mf, "splat");
+                let fl = F4::lerp(fa, fb, F4::splat(t[i]));
+                same(lerped.pixel(i), fl, "lerp");
+                same(
+                    single.pixel(i),
+                    F4::lerp(fa, fb, F4::splat(t[0])),
+                    "lerp_by",
+                );
+                let fs = fl.mul(mf).with_alpha_of(fb);
+                same(shaded.pixel(i), fs, "mul, with_alpha_of");
+                assert_eq!(packed[i], fs.to_argb(), "quantize");
+                let fq = F4::from_argb(fs.to_argb());
+                same(quantized.pixel(i), fq, "quantize");
+                let fd = F4::splat(1.0).sub(fq.alpha());
+                let fbl = fq.mul(fq.alpha()).add(fa.mul(fd));
+                same(blended.pixel(i), fbl, "source_alpha");
+                assert_eq!(blended.to_argb()[i], fbl.to_argb(), "to_argb");
+                assert_eq!(add_pixels(a, b)[i], add_pixel(a[i], b[i]), "add_pixels");
+            }
+            // The scalar twin of the planar primitives (what targets without SSE2 run).
+            let planes = scalar::unpack_planes(a);
+            for c in 0..4 {
+                assert_eq!(bits(imp::lanes(pa.0[c])), bits(planes[c]), "unpack_planes");
+            }
+            let units = planes.map(scalar::round_unorm);
+            assert_eq!(scalar::pack_planes(units), a, "round_unorm, pack_planes");
+            for c in 0..4 {
+                assert_eq!(bits(scalar::unit_of(units[c])), bits(planes[c]), "unit_of");
+            }
+            let twin = shaded
+                .0
+                .map(|p| scalar::round_unorm(scalar::lanes(imp::lanes(p))));
+            assert_eq!(scalar::pack_planes(twin), packed, "quantize twin");
+            assert_eq!(
+                scalar::add_pixels(a, b),
+                add_pixels(a, b),
+                "add_pixels twin"
+            );
         }
     }
 
