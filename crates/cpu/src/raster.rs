@@ -46,7 +46,7 @@ trait Blender: Sync {
 
     /// [`Blender::blend`] of four pixels: `src` packed and as [`P4`] (the same colours).
     #[inline(always)]
-    fn blend4(&self, src: [u32; 4], _src: &P4, dst: [u32; 4]) -> [u32; 4] {
+    fn blend4(&self, src: [u32; 4], _planar: &P4, dst: [u32; 4]) -> [u32; 4] {
         std::array::from_fn(|i| self.blend(src[i], dst[i]))
     }
 
