@@ -762,13 +762,13 @@ mod tests {
             }
             // The scalar twin of the planar primitives (what targets without SSE2 run).
             let planes = scalar::unpack_planes(a);
-            for c in 0..4 {
-                assert_eq!(bits(imp::lanes(pa.0[c])), bits(planes[c]), "unpack_planes");
+            for (ours, twin) in pa.0.iter().zip(&planes) {
+                assert_eq!(bits(imp::lanes(*ours)), bits(*twin), "unpack_planes");
             }
             let units = planes.map(scalar::round_unorm);
             assert_eq!(scalar::pack_planes(units), a, "round_unorm, pack_planes");
-            for c in 0..4 {
-                assert_eq!(bits(scalar::unit_of(units[c])), bits(planes[c]), "unit_of");
+            for (unit, plane) in units.iter().zip(&planes) {
+                assert_eq!(bits(scalar::unit_of(*unit)), bits(*plane), "unit_of");
             }
             let twin = shaded
                 .0
