@@ -184,6 +184,21 @@ impl ScreenPoint {
     }
 }
 
+/// A transformed vertex in clip and screen space ([`PointSetup::project`]).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Projection {
+    /// Clip-space position (SPEC 1).
+    pub clip: [f32; 4],
+    /// `De`, the eye-space distance of SPEC 2.2.
+    pub eye_distance: f32,
+    /// Screen x.
+    pub x: f32,
+    /// Screen y.
+    pub y: f32,
+    /// Depth Z.
+    pub z: f32,
+}
+
 /// Everything the per-point stage needs, resolved once per draw.
 #[derive(Clone, Debug)]
 pub struct PointSetup {
@@ -394,6 +409,30 @@ impl PointSetup {
         clamp_size(ss, self.size_min, self.size_max, self.max_point_size)
     }
 
+    /// SPEC 1, 2.2 and 3.1 for a finite object-space position of a transformed vertex: its
+    /// clip-space position, eye distance and screen position; `None` when it is dropped (clip
+    /// w <= 0 or not finite, or depth outside `0 <= z <= w` with clipping). The screen position
+    /// may still be non-finite.
+    #[inline]
+    pub fn project(&self, pos: [f32; 4]) -> Option<Projection> {
+        let vp = &self.viewport;
+        let eye = self.world_view.transform(pos);
+        let c = self.projection.transform(eye);
+        if !c.iter().all(|v| v.is_finite()) || c[3] <= 0.0 {
+            return None;
+        }
+        if self.clipping && !(0.0 <= c[2] && c[2] <= c[3]) {
+            return None;
+        }
+        Some(Projection {
+            clip: c,
+            eye_distance: (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt(),
+            x: vp.x as f32 + (1.0 + c[0] / c[3]) * vp.width as f32 / 2.0,
+            y: vp.y as f32 + (1.0 - c[1] / c[3]) * vp.height as f32 / 2.0,
+            z: vp.min_z + (c[2] / c[3]) * (vp.max_z - vp.min_z),
+        })
+    }
+
     /// Runs vertex `index` of `vertices` through the stage; `None` when it is dropped or
     /// covers no pixel. `vertices` must hold at least `(index + 1) * stride` bytes.
     pub fn process(&self, vertices: &[u8], index: u32) -> Option<ScreenPoint> {
@@ -419,19 +458,8 @@ impl PointSetup {
             }
             (x, y, z, self.size(si, 0.0), None)
         } else {
-            let eye = self.world_view.transform(pos);
-            let c = self.projection.transform(eye);
-            if !c.iter().all(|v| v.is_finite()) || c[3] <= 0.0 {
-                return None;
-            }
-            if self.clipping && !(0.0 <= c[2] && c[2] <= c[3]) {
-                return None;
-            }
-            let de = (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt();
-            let x = vp.x as f32 + (1.0 + c[0] / c[3]) * vp.width as f32 / 2.0;
-            let y = vp.y as f32 + (1.0 - c[1] / c[3]) * vp.height as f32 / 2.0;
-            let z = vp.min_z + (c[2] / c[3]) * (vp.max_z - vp.min_z);
-            (x, y, z, self.size(si, de), Some(c))
+            let p = self.project(pos)?;
+            (p.x, p.y, p.z, self.size(si, p.eye_distance), Some(p.clip))
         };
         if !(x.is_finite() && y.is_finite() && z.is_finite()) {
             return None;

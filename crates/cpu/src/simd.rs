@@ -522,31 +522,38 @@ mod sse2 {
         mask: u32,
     ) {
         let n = x1 - x0;
+        let quads = n & !3;
         // SAFETY: the caller checked `x0 <= x1 <= pitch` and `r1 * pitch <= color.len()`, so
         // pixels `r * pitch + x0 .. r * pitch + x1` of every row `r < r1` are inside `color`;
         // each load and store touches four (or, in the tail, one) of them, at any alignment.
         unsafe {
-            let base = color.as_mut_ptr();
             let cv = _mm_set1_epi32(c as i32);
             let m = _mm_set1_epi32(mask as i32);
-            for r in r0..r1 {
-                let row = base.add(r * pitch + x0);
+            let mut row = color.as_mut_ptr().add(r0 * pitch + x0);
+            for _ in r0..r1 {
                 let mut i = 0;
-                while i + 4 <= n {
-                    let at = row.add(i).cast::<__m128i>();
-                    let old = _mm_loadu_si128(at);
-                    let sum = _mm_adds_epu8(old, cv);
-                    _mm_storeu_si128(
-                        at,
-                        _mm_or_si128(_mm_and_si128(sum, m), _mm_andnot_si128(m, old)),
-                    );
-                    i += 4;
+                if mask == u32::MAX {
+                    while i < quads {
+                        let at = row.add(i).cast::<__m128i>();
+                        _mm_storeu_si128(at, _mm_adds_epu8(_mm_loadu_si128(at), cv));
+                        i += 4;
+                    }
+                } else {
+                    while i < quads {
+                        let at = row.add(i).cast::<__m128i>();
+                        let old = _mm_loadu_si128(at);
+                        let sum = _mm_adds_epu8(old, cv);
+                        let new = _mm_or_si128(_mm_and_si128(sum, m), _mm_andnot_si128(m, old));
+                        _mm_storeu_si128(at, new);
+                        i += 4;
+                    }
                 }
                 while i < n {
                     let at = row.add(i);
                     *at = write_masked(mask, add_pixel(c, *at), *at);
                     i += 1;
                 }
+                row = row.add(pitch);
             }
         }
     }

@@ -1,12 +1,13 @@
 //! The per-point stage for the fills that need only a point's square: core's
-//! [`PointSetup::process`] (SPEC 2, 3.1, 3.2, 4.1), with a fast twin for pre-transformed
-//! (XYZRHW) vertices that resolves everything per draw and keeps nothing the fills do not read.
+//! [`PointSetup::process`] (SPEC 2, 3.1, 3.2, 4.1), with a fast twin for vertices without
+//! per-pixel clip planes that resolves everything per draw and keeps nothing the fills do not
+//! read (transformed vertices go through core's own [`PointSetup::project`]).
 //!
 //! The twin is tested against `process` on random and hostile vertices: it drops the same
 //! points and gives the same squares, bit for bit.
 
 use pointillist_core::fvf::{read_f32, read_u32};
-use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
+use pointillist_core::point::{PixelRect, PointScale, PointSetup, ScreenPoint, scaled_size};
 
 use crate::simd;
 
@@ -36,13 +37,13 @@ impl From<&ScreenPoint> for Square {
     }
 }
 
-/// The squares of a draw's vertices, from the twin when the vertices are pre-transformed and
-/// from core's stage otherwise.
-pub(crate) struct SquareStage(Option<Pretransformed>);
+/// The squares of a draw's vertices, from the twin where it applies and from core's stage
+/// otherwise.
+pub(crate) struct SquareStage(Option<Twin>);
 
 impl SquareStage {
     pub(crate) fn new(points: &PointSetup) -> SquareStage {
-        SquareStage(Pretransformed::new(points))
+        SquareStage(Twin::new(points))
     }
 
     /// Calls `f(index, square)` for every vertex in `range` that survives `points`, in order.
@@ -55,9 +56,9 @@ impl SquareStage {
         mut f: impl FnMut(u32, &Square),
     ) {
         match &self.0 {
-            Some(stage) => {
+            Some(twin) => {
                 for index in range {
-                    if let Some(s) = stage.square(vertices, index) {
+                    if let Some(s) = twin.square(points, vertices, index) {
                         f(index, &s);
                     }
                 }
@@ -73,19 +74,28 @@ impl SquareStage {
     }
 }
 
-/// [`PointSetup::process`] for pre-transformed vertices (SPEC 2.1, 2.3, 2.4, 3.1, 3.2, 4.1):
-/// never scaled nor user-clipped, so a point is its screen position, its clamped size and its
-/// diffuse colour.
-pub(crate) struct Pretransformed {
+/// [`PointSetup::process`] for vertices without user clip planes (SPEC 2, 3.1, 3.2, 4.1): a
+/// point is its screen position, its clamped (and for transformed vertices, scaled) size and
+/// its diffuse colour.
+pub(crate) struct Twin {
     stride: usize,
-    /// PSIZE's offset when the vertex's size is used; otherwise every point has `size`.
+    pretransformed: bool,
+    /// Position floats: 4 (XYZRHW, XYZW) or 3 (XYZ, w = 1).
+    position_len: usize,
+    /// PSIZE's offset when the vertex's size is used; otherwise `Si` is `point_size`.
     psize: Option<usize>,
-    size: f32,
+    point_size: f32,
+    /// SPEC 2.2's terms when sizes are scaled.
+    scale: Option<PointScale>,
+    /// The size of every point, when it depends on nothing per vertex.
+    size: Option<f32>,
+    single_pixel: bool,
     /// SPEC 2.3's bounds.
     lo: f32,
     hi: f32,
     diffuse: Option<usize>,
-    /// `(min_z, max_z)` when CLIPPING drops points outside the depth range (SPEC 3.1).
+    /// `(min_z, max_z)` when CLIPPING drops pre-transformed points outside the depth range
+    /// (SPEC 3.1; transformed ones are tested in clip space by `project`).
     depth_range: Option<(f32, f32)>,
     /// The viewport's pixel rectangle as floats, the lower and upper bounds of the edges
     /// `left, top, right, bottom`: `[x0, y0, x0, y0]` and `[x1, y1, x1, y1]`.
@@ -93,55 +103,97 @@ pub(crate) struct Pretransformed {
     upper: [f32; 4],
 }
 
-impl Pretransformed {
-    /// The twin for `points`, or `None` when its vertices are not pre-transformed.
-    pub(crate) fn new(points: &PointSetup) -> Option<Pretransformed> {
-        if !points.is_pretransformed() {
+impl Twin {
+    /// The twin for `points`, or `None` when user clip planes apply (SPEC 3.3).
+    pub(crate) fn new(points: &PointSetup) -> Option<Twin> {
+        if !points.user_planes().is_empty() {
             return None;
         }
         let layout = points.layout();
         let (lo, hi) = points.size_bounds();
-        let vertex_size = points.uses_vertex_size() && !points.is_single_pixel();
+        let single_pixel = points.is_single_pixel();
+        let psize = layout
+            .psize
+            .filter(|_| points.uses_vertex_size() && !single_pixel);
+        let scale = points.scale().copied();
         let vp = points.viewport();
         let r = points.viewport_rect();
-        Some(Pretransformed {
+        let pretransformed = points.is_pretransformed();
+        Some(Twin {
             stride: layout.stride,
-            psize: layout.psize.filter(|_| vertex_size),
-            size: points.size(points.point_size(), 0.0),
+            pretransformed,
+            position_len: layout.position_len,
+            psize,
+            point_size: points.point_size(),
+            scale,
+            size: (psize.is_none() && (scale.is_none() || single_pixel))
+                .then(|| points.size(points.point_size(), 0.0)),
+            single_pixel,
             lo,
             hi,
             diffuse: layout.diffuse,
-            depth_range: points.clipping().then_some((vp.min_z, vp.max_z)),
+            depth_range: (pretransformed && points.clipping()).then_some((vp.min_z, vp.max_z)),
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
         })
     }
 
+    /// SPEC 2: the size for input size `si` at eye distance `de`, with the bounds resolved:
+    /// NaN and negative sizes count as 0.
+    #[inline(always)]
+    fn size(&self, si: f32, de: f32) -> f32 {
+        if self.single_pixel {
+            return 1.0;
+        }
+        let ss = match &self.scale {
+            Some(scale) => scaled_size(si, scale, de),
+            None => si,
+        };
+        let ss = if ss >= 0.0 { ss } else { 0.0 };
+        ss.max(self.lo).min(self.hi)
+    }
+
     /// Vertex `index` as a square, `None` when it is dropped or covers no pixel.
     #[inline(always)]
-    pub(crate) fn square(&self, vertices: &[u8], index: u32) -> Option<Square> {
+    pub(crate) fn square(
+        &self,
+        points: &PointSetup,
+        vertices: &[u8],
+        index: u32,
+    ) -> Option<Square> {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + self.stride];
-        let head: &[u8; 16] = v[..16].try_into().expect("XYZRHW is 16 bytes");
-        let position = [0, 4, 8, 12].map(|o| read_f32(head, o));
-        let [x, y, z, rhw] = position;
-        // SPEC 3.1: finite coordinates, w = 1/RHW positive, depth inside the range.
-        if !simd::all_finite(position) || rhw <= 0.0 {
+        let head: &[u8; 12] = v[..12].try_into().expect("positions have 3 or 4 floats");
+        let w = if self.position_len == 4 {
+            read_f32(v, 12)
+        } else {
+            1.0
+        };
+        let position = [read_f32(head, 0), read_f32(head, 4), read_f32(head, 8), w];
+        // SPEC 3.1: finite coordinates.
+        if !simd::all_finite(position) {
             return None;
         }
-        if let Some((min_z, max_z)) = self.depth_range {
-            if !(min_z <= z && z <= max_z) {
+        let si = || self.psize.map_or(self.point_size, |o| read_f32(v, o));
+        let (x, y, z, size) = if self.pretransformed {
+            let [x, y, z, rhw] = position;
+            // SPEC 3.1: w = 1/RHW positive, depth inside the range.
+            if rhw <= 0.0 {
                 return None;
             }
-        }
-        let size = match self.psize {
-            // SPEC 2.3 with the bounds resolved: NaN and negative sizes count as 0.
-            Some(o) => {
-                let si = read_f32(v, o);
-                let ss = if si >= 0.0 { si } else { 0.0 };
-                ss.max(self.lo).min(self.hi)
+            if let Some((min_z, max_z)) = self.depth_range {
+                if !(min_z <= z && z <= max_z) {
+                    return None;
+                }
             }
-            None => self.size,
+            (x, y, z, self.size.unwrap_or_else(|| self.size(si(), 0.0)))
+        } else {
+            let p = points.project(position)?;
+            let size = self.size.unwrap_or_else(|| self.size(si(), p.eye_distance));
+            if !simd::all_finite([p.x, p.y, p.z, 0.0]) {
+                return None;
+            }
+            (p.x, p.y, p.z, size)
         };
         let half = size / 2.0;
         let (left, top) = (x - half, y - half);
@@ -170,8 +222,10 @@ impl Pretransformed {
 mod tests {
     use super::*;
     use crate::test_rng::Rng;
-    use pointillist_core::device::{DeviceDesc, Viewport};
+    use pointillist_core::caps::Caps;
+    use pointillist_core::device::{DeviceDesc, TransformType, Viewport};
     use pointillist_core::fvf::Fvf;
+    use pointillist_core::math::Mat4;
     use pointillist_core::states::RenderState;
 
     /// Floats that stress the stage: NaN, infinities, negative zero, huge, tiny, halves.
@@ -190,13 +244,20 @@ mod tests {
     }
 
     /// The twin and core's stage agree on which points survive and on every field the fills
-    /// read, over formats, size states, viewports and hostile vertices.
+    /// read, over pre-transformed and transformed formats, caps profiles, size and scale
+    /// states, transforms, viewports and hostile vertices.
     #[test]
-    fn pretransformed_twin_matches_core_process() {
+    fn twin_matches_core_process() {
         let mut rng = Rng(0xC0FF_EE00_D15E_A5E5);
         let (mut tested, mut survivors) = (0, 0);
-        for case in 0..400 {
-            let mut device = crate::device(DeviceDesc::new(120, 90)).unwrap();
+        for case in 0..600 {
+            let profile = Caps::PROFILES[case % Caps::PROFILES.len()];
+            let caps = Caps::profile(profile).unwrap();
+            let desc = DeviceDesc {
+                caps,
+                ..DeviceDesc::new(120, 90)
+            };
+            let mut device = crate::device(desc).unwrap();
             let rs = |d: &mut crate::CpuDevice, s: RenderState, v: f32| {
                 d.set_render_state(s, v);
             };
@@ -206,6 +267,19 @@ mod tests {
                 rs(&mut device, RenderState::POINTSIZE_MAX, hostile(&mut rng));
             }
             device.set_render_state(RenderState::CLIPPING, case % 5 != 0);
+            device.set_render_state(RenderState::POINTSCALEENABLE, case % 2 == 0);
+            for s in [
+                RenderState::POINTSCALE_A,
+                RenderState::POINTSCALE_B,
+                RenderState::POINTSCALE_C,
+            ] {
+                let v = if rng.next().is_multiple_of(6) {
+                    hostile(&mut rng)
+                } else {
+                    rng.range(0.0, 2.0)
+                };
+                rs(&mut device, s, v);
+            }
             if case % 4 == 1 {
                 let viewport = Viewport {
                     x: rng.next() % 60,
@@ -217,33 +291,61 @@ mod tests {
                 };
                 device.set_viewport(viewport).unwrap();
             }
-            let fvf = match case % 3 {
+            let eye = [
+                rng.range(-3.0, 3.0),
+                rng.range(-3.0, 3.0),
+                rng.range(-12.0, -4.0),
+            ];
+            device.set_transform(
+                TransformType::View,
+                Mat4::look_at_lh(eye, [0.0; 3], [0.0, 1.0, 0.0]),
+            );
+            let fov = rng.range(0.3, 2.0);
+            let projection = Mat4::perspective_fov_lh(fov, 1.33, rng.range(0.05, 1.0), 50.0);
+            device.set_transform(TransformType::Projection, projection);
+            let fvf = match case % 6 {
                 0 => Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0),
                 1 => Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0),
-                _ => Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0),
+                2 => Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0),
+                3 => Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0),
+                4 => Fvf(Fvf::XYZ.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0),
+                _ => Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0),
             };
             let points = PointSetup::new(device.state(), fvf);
-            let twin = Pretransformed::new(&points).expect("pre-transformed");
+            let twin = Twin::new(&points).expect("no user clip planes");
             let mut vertices = Vec::new();
             for _ in 0..200 {
-                let coordinate = |rng: &mut Rng| match rng.next() % 4 {
-                    0 => hostile(rng),
-                    _ => rng.range(-40.0, 140.0),
+                let mut words = if fvf.is_pretransformed() {
+                    let coordinate = |rng: &mut Rng| match rng.next() % 4 {
+                        0 => hostile(rng),
+                        _ => rng.range(-40.0, 140.0),
+                    };
+                    vec![
+                        coordinate(&mut rng).to_bits(),
+                        coordinate(&mut rng).to_bits(),
+                        rng.range(-0.2, 1.2).to_bits(),
+                        rng.range(-0.5, 2.0).to_bits(),
+                    ]
+                } else {
+                    let mut w = vec![
+                        rng.range(-5.0, 5.0).to_bits(),
+                        rng.range(-4.0, 4.0).to_bits(),
+                        rng.range(-8.0, 30.0).to_bits(),
+                    ];
+                    if fvf.layout().position_len == 4 {
+                        w.push(rng.range(-0.2, 2.0).to_bits());
+                    }
+                    w
                 };
-                let mut words = vec![
-                    coordinate(&mut rng).to_bits(),
-                    coordinate(&mut rng).to_bits(),
-                    rng.range(-0.2, 1.2).to_bits(),
-                    rng.range(-0.5, 2.0).to_bits(),
-                ];
                 if rng.next().is_multiple_of(8) {
-                    words[2] = hostile(&mut rng).to_bits();
-                    words[3] = hostile(&mut rng).to_bits();
+                    let k = rng.next() as usize % words.len();
+                    words[k] = hostile(&mut rng).to_bits();
                 }
                 if fvf.has_psize() {
                     words.push(hostile(&mut rng).abs().min(90.0).to_bits());
                     if rng.next().is_multiple_of(4) {
-                        words[4] = hostile(&mut rng).to_bits();
+                        let last = words.len() - 1;
+                        words[last] = hostile(&mut rng).to_bits();
                     }
                 }
                 if fvf.0 & Fvf::DIFFUSE.0 != 0 {
@@ -254,7 +356,7 @@ mod tests {
             let count = (vertices.len() / fvf.stride()) as u32;
             for index in 0..count {
                 let reference = points.process(&vertices, index).map(|p| Square::from(&p));
-                let ours = twin.square(&vertices, index);
+                let ours = twin.square(&points, &vertices, index);
                 // Compare bit patterns, so -0.0 and NaN count.
                 let bits = |s: Option<Square>| {
                     s.map(|s| {
@@ -265,7 +367,11 @@ mod tests {
                         )
                     })
                 };
-                assert_eq!(bits(ours), bits(reference), "case {case} vertex {index}");
+                assert_eq!(
+                    bits(ours),
+                    bits(reference),
+                    "case {case} ({profile}, {fvf:?}) vertex {index}"
+                );
                 survivors += usize::from(ours.is_some());
                 tested += 1;
             }
