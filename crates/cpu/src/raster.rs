@@ -565,8 +565,8 @@ struct Chunk<P> {
 
 /// The bands of [`BAND_ROWS`] rows that rows `y0..y1` touch.
 #[inline]
-fn bands_of((y0, y1): (i32, i32)) -> std::ops::RangeInclusive<usize> {
-    y0 as usize / BAND_ROWS..=(y1 as usize - 1) / BAND_ROWS
+fn bands_of((y0, y1): (i32, i32)) -> std::ops::Range<usize> {
+    y0 as usize / BAND_ROWS..(y1 as usize - 1) / BAND_ROWS + 1
 }
 
 /// Runs the per-point stage on vertices `range` once, keeping `P` per point, and bins them.
@@ -818,10 +818,9 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
         Column { u, k, fx }
     }));
     let planes = p.pixel_planes();
-    // Spans of four pixels need every pixel written the same way: no clip planes, no depth.
-    // With linear filtering they read filtered texel rows, which pay for sprites four columns
-    // wide or more.
-    let spans = planes.is_empty() && ctx.pixel.depth.is_none();
+    // Spans of four pixels need no clip planes. With linear filtering they read filtered texel
+    // rows, which pay for sprites four columns wide or more.
+    let spans = planes.is_empty();
     let filtered_rows = LINEAR && spans && cols.len() >= 4;
     groups.clear();
     if filtered_rows {
@@ -883,9 +882,19 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                 let old: [u32; 4] = std::array::from_fn(|i| band.color[at + i]);
                 let new = b.blend4(src, &src4, old);
                 for i in 0..4 {
-                    if alpha_test_passes(ctx.pixel.alpha_test, src[i]) {
-                        band.color[at + i] = write_masked(mask, new[i], old[i]);
+                    // Alpha test, then depth test and write (SPEC 5.3, 5.4), as write_pixel.
+                    if !alpha_test_passes(ctx.pixel.alpha_test, src[i]) {
+                        continue;
                     }
+                    if let Some(depth) = ctx.pixel.depth {
+                        if !compare(depth.func, p.z, band.depth[at + i]) {
+                            continue;
+                        }
+                        if depth.write {
+                            band.depth[at + i] = p.z;
+                        }
+                    }
+                    band.color[at + i] = write_masked(mask, new[i], old[i]);
                 }
                 n += 4;
                 continue;
