@@ -836,6 +836,8 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
     let diffuse_alpha = alpha == ModulateAlpha::Diffuse;
     let (m4, d4) = (P4::splat(m.lanes()), P4::splat(d.lanes()));
     let mask = ctx.pixel.write_mask;
+    // Neither alpha nor depth test: a span writes all four pixels.
+    let plain = ctx.pixel.alpha_test.is_none() && ctx.pixel.depth.is_none();
     let width = w as usize;
     let len = cols.len();
     for j in rows(p.rect, band) {
@@ -881,6 +883,13 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                 let at = row + n;
                 let old: [u32; 4] = std::array::from_fn(|i| band.color[at + i]);
                 let new = b.blend4(src, &src4, old);
+                if plain {
+                    for i in 0..4 {
+                        band.color[at + i] = write_masked(mask, new[i], old[i]);
+                    }
+                    n += 4;
+                    continue;
+                }
                 for i in 0..4 {
                     // Alpha test, then depth test and write (SPEC 5.3, 5.4), as write_pixel.
                     if !alpha_test_passes(ctx.pixel.alpha_test, src[i]) {
