@@ -2,8 +2,8 @@
 //! pipeline, with the result of drawing the points one after another (SPEC 4, 5.5).
 //!
 //! Parallel plan: points run through the per-point stage once, in parallel chunks, and each
-//! chunk sorts a compact copy of its points into bands of [`BAND_ROWS`] target rows (vertex
-//! order kept within a band); bands are then filled in parallel, each reading its points in one
+//! chunk appends a compact copy of each point to the bands of [`BAND_ROWS`] target rows it
+//! touches (vertex order kept within a band); bands are then filled in parallel, each reading its points in one
 //! sequential sweep and applying them in vertex order to pixels no other band touches. Every
 //! pixel therefore sees the same operations in the same order whatever the thread count, and
 //! the output is bit-identical to sequential drawing.
@@ -403,6 +403,20 @@ trait Binned: Copy + Send + Sync {
     /// Fills the point's pixels inside `band`, as [`fill`] does.
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch);
 
+    /// Fills `points` one after another, as [`Binned::fill`] does.
+    #[inline]
+    fn fill_all<B: Blender>(
+        points: &[Self],
+        ctx: &DrawContext,
+        b: &B,
+        band: &mut Band,
+        s: &mut Scratch,
+    ) {
+        for p in points {
+            p.fill(ctx, b, band, s);
+        }
+    }
+
     /// Draws the first `count` vertices one after another into `band`.
     fn draw_sequential<B: Blender>(
         ctx: &DrawContext,
@@ -506,6 +520,24 @@ impl Binned for Solid {
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, _: &mut Scratch) {
         fill_solid(ctx, b, self.rect.get(), self.z, self.color, band);
     }
+
+    /// Without a depth test only the blend and mask remain: the per-draw checks leave the loop.
+    #[inline]
+    fn fill_all<B: Blender>(
+        points: &[Solid],
+        ctx: &DrawContext,
+        b: &B,
+        band: &mut Band,
+        s: &mut Scratch,
+    ) {
+        if ctx.pixel.depth.is_some() {
+            return points.iter().for_each(|p| p.fill(ctx, b, band, s));
+        }
+        let mask = ctx.pixel.write_mask;
+        for p in points {
+            b.blend_rect(p.color, band, p.rect.get(), mask);
+        }
+    }
 }
 
 /// A textured sprite with [`Shading::Modulate`] and no per-pixel clip planes: rectangle,
@@ -555,12 +587,11 @@ impl Binned for Sprite {
     }
 }
 
-/// One chunk of the draw's points, binned: the points touching band `n` are
-/// `points[starts[n]..starts[n + 1]]`, in vertex order (a point touching two bands is there
-/// twice), so each band reads its points in one sequential sweep.
+/// One chunk of the draw's points, binned: `bands[n]` holds, in vertex order, the points
+/// touching band `n` (a point touching two bands is in both), so each band reads its points in
+/// one sequential sweep.
 struct Chunk<P> {
-    points: Vec<P>,
-    starts: Vec<u32>,
+    bands: Vec<Vec<P>>,
 }
 
 /// The bands of [`BAND_ROWS`] rows that rows `y0..y1` touch.
@@ -571,37 +602,18 @@ fn bands_of((y0, y1): (i32, i32)) -> std::ops::Range<usize> {
 
 /// Runs the per-point stage on vertices `range` once, keeping `P` per point, and bins them.
 fn bin<P: Binned>(ctx: &DrawContext, range: std::ops::Range<u32>, bands: usize) -> Chunk<P> {
-    let mut unsorted = Vec::with_capacity(range.len());
-    let mut starts = vec![0u32; bands + 1];
+    // Room for an even spread plus a quarter, so that uniform scenes never grow a band.
+    let room = range.len() / bands + range.len() / (4 * bands) + 16;
+    let mut out: Vec<Vec<P>> = (0..bands).map(|_| Vec::with_capacity(room)).collect();
     ctx.squares
         .for_each(&ctx.points, ctx.vertices, range, |index, p| {
             if let Some(c) = P::new(ctx, p, index) {
                 for n in bands_of(c.rows()) {
-                    starts[n + 1] += 1;
+                    out[n].push(c);
                 }
-                unsorted.push(c);
             }
         });
-    for n in 0..bands {
-        starts[n + 1] += starts[n];
-    }
-    // A counting sort by band, stable, so each band keeps vertex order; every slot is
-    // overwritten (`next[n]` runs from `starts[n]` to `starts[n + 1]`).
-    let Some(&first) = unsorted.first() else {
-        return Chunk {
-            points: unsorted,
-            starts,
-        };
-    };
-    let mut points = vec![first; starts[bands] as usize];
-    let mut next = starts.clone();
-    for c in &unsorted {
-        for n in bands_of(c.rows()) {
-            points[next[n] as usize] = *c;
-            next[n] += 1;
-        }
-    }
-    Chunk { points, starts }
+    Chunk { bands: out }
 }
 
 /// The parallel plan of the module contract with bins of `P`.
@@ -637,9 +649,7 @@ fn draw_binned<B: Blender, P: Binned>(
             };
             let mut scratch = Scratch::default();
             for c in &chunks {
-                for p in &c.points[c.starts[n] as usize..c.starts[n + 1] as usize] {
-                    p.fill(ctx, b, &mut band, &mut scratch);
-                }
+                P::fill_all(&c.bands[n], ctx, b, &mut band, &mut scratch);
             }
         });
 }

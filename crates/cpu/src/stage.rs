@@ -55,20 +55,14 @@ impl SquareStage {
         range: std::ops::Range<u32>,
         mut f: impl FnMut(u32, &Square),
     ) {
-        match &self.0 {
-            Some(twin) => {
-                for index in range {
-                    if let Some(s) = twin.square(points, vertices, index) {
-                        f(index, &s);
-                    }
-                }
-            }
-            None => {
-                for index in range {
-                    if let Some(p) = points.process(vertices, index) {
-                        f(index, &Square::from(&p));
-                    }
-                }
+        // One call site of `f`, so that it inlines; the match is the same for every vertex.
+        for index in range {
+            let square = match &self.0 {
+                Some(twin) => twin.square(points, vertices, index),
+                None => points.process(vertices, index).map(|p| Square::from(&p)),
+            };
+            if let Some(s) = square {
+                f(index, &s);
             }
         }
     }
