@@ -45,6 +45,8 @@ pub fn device(desc: DeviceDesc) -> Result<CpuDevice, DeviceError> {
 #[derive(Debug, Default)]
 pub struct CpuBackend {
     target: RenderTarget,
+    /// The rasterizer's bins, kept from draw to draw.
+    bins: raster::Bins,
 }
 
 impl CpuBackend {
@@ -83,7 +85,7 @@ impl Backend for CpuBackend {
         fvf: Fvf,
         vertices: &[u8],
     ) -> Result<(), DeviceError> {
-        raster::draw(&mut self.target, state, fvf, vertices);
+        raster::draw(&mut self.target, &mut self.bins, state, fvf, vertices);
         Ok(())
     }
 

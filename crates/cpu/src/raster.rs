@@ -328,13 +328,19 @@ struct Band<'t> {
     y1: i32,
 }
 
-pub(crate) fn draw(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertices: &[u8]) {
+pub(crate) fn draw(
+    target: &mut RenderTarget,
+    bins: &mut Bins,
+    state: &DeviceState,
+    fvf: Fvf,
+    vertices: &[u8],
+) {
     let ctx = context(state, fvf, vertices);
     match ctx.pixel.blend {
-        None => draw_with(&ctx, &Replace, target),
-        Some(b) if b.is_additive() => draw_with(&ctx, &Additive, target),
-        Some(b) if is_source_alpha(&b) => draw_with(&ctx, &SourceAlpha, target),
-        Some(b) => draw_with(&ctx, &General(b), target),
+        None => draw_with(&ctx, &Replace, target, bins),
+        Some(b) if b.is_additive() => draw_with(&ctx, &Additive, target, bins),
+        Some(b) if is_source_alpha(&b) => draw_with(&ctx, &SourceAlpha, target, bins),
+        Some(b) => draw_with(&ctx, &General(b), target, bins),
     }
 }
 
@@ -363,26 +369,32 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
     }
 }
 
-fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget) {
+fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget, bins: &mut Bins) {
     let pixel_planes = ctx.points.scaled_planes() && !ctx.points.user_planes().is_empty();
     if pixel_planes {
-        draw_points::<B, Index>(ctx, b, target);
+        draw_points::<B, Index>(ctx, b, target, bins);
     } else if ctx.pixel.is_flat() && ctx.shading == Shading::Diffuse {
-        draw_points::<B, Solid>(ctx, b, target);
+        draw_points::<B, Solid>(ctx, b, target, bins);
     } else if !ctx.pixel.is_flat() && matches!(ctx.shading, Shading::Modulate(_)) {
-        draw_points::<B, Sprite>(ctx, b, target);
+        draw_points::<B, Sprite>(ctx, b, target, bins);
     } else {
-        draw_points::<B, Index>(ctx, b, target);
+        draw_points::<B, Index>(ctx, b, target, bins);
     }
 }
 
 /// Small draws, and every draw on one thread, run one point after another on the calling
 /// thread; the rest follow the parallel plan of the module contract with bins of `P`.
-fn draw_points<B: Blender, P: Binned>(ctx: &DrawContext, b: &B, target: &mut RenderTarget) {
+fn draw_points<B: Blender, P: Binned>(
+    ctx: &DrawContext,
+    b: &B,
+    target: &mut RenderTarget,
+    bins: &mut Bins,
+) {
     let count = (ctx.vertices.len() / ctx.points.layout().stride) as u32;
     let threads = rayon::current_num_threads();
     if threads > 1 && count >= PARALLEL_MIN_POINTS {
-        return draw_binned::<B, P>(ctx, b, target, count, threads);
+        draw_binned::<B, P>(ctx, b, target, P::chunks(bins), count, threads);
+        return trim_bins(P::chunks(bins));
     }
     let mut band = Band {
         color: &mut target.color,
@@ -396,6 +408,8 @@ fn draw_points<B: Blender, P: Binned>(ctx: &DrawContext, b: &B, target: &mut Ren
 
 /// What a bin keeps of a point: enough to fill it without running the per-point stage again.
 trait Binned: Copy + Send + Sync {
+    /// This kind's bins in the pool.
+    fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<Self>>;
     /// The compact form of `p`, vertex `index` of the draw; `None` when it writes no pixel.
     fn new(ctx: &DrawContext, p: &Square, index: u32) -> Option<Self>;
     /// First and one-past-last covered row.
@@ -442,6 +456,9 @@ struct Index {
     rows: [u16; 2],
 }
 impl Binned for Index {
+    fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<Index>> {
+        &mut bins.index
+    }
     fn new(_: &DrawContext, p: &Square, vertex: u32) -> Option<Index> {
         Some(Index {
             vertex,
@@ -504,6 +521,9 @@ struct Solid {
     color: u32,
 }
 impl Binned for Solid {
+    fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<Solid>> {
+        &mut bins.solid
+    }
     #[inline]
     fn new(ctx: &DrawContext, p: &Square, _: u32) -> Option<Solid> {
         alpha_test_passes(ctx.pixel.alpha_test, p.diffuse).then_some(Solid {
@@ -552,6 +572,9 @@ struct Sprite {
     size: f32,
 }
 impl Binned for Sprite {
+    fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<Sprite>> {
+        &mut bins.sprite
+    }
     #[inline]
     fn new(_: &DrawContext, p: &Square, _: u32) -> Option<Sprite> {
         Some(Sprite {
@@ -594,17 +617,52 @@ struct Chunk<P> {
     bands: Vec<Vec<P>>,
 }
 
+impl<P> Default for Chunk<P> {
+    fn default() -> Chunk<P> {
+        Chunk { bands: Vec::new() }
+    }
+}
+
+/// Bin storage kept from draw to draw (by [`crate::CpuBackend`]), so that a frame refills warm
+/// memory instead of faulting in fresh pages; at most [`RETAINED_BIN_BYTES`] stay between draws.
+#[derive(Default)]
+pub(crate) struct Bins {
+    index: Vec<Chunk<Index>>,
+    solid: Vec<Chunk<Solid>>,
+    sprite: Vec<Chunk<Sprite>>,
+}
+
+impl std::fmt::Debug for Bins {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Bins").finish_non_exhaustive()
+    }
+}
+
+/// Bin capacity a backend keeps after a draw; a bigger draw frees its bins.
+const RETAINED_BIN_BYTES: usize = 64 << 20;
+
 /// The bands of [`BAND_ROWS`] rows that rows `y0..y1` touch.
 #[inline]
 fn bands_of((y0, y1): (i32, i32)) -> std::ops::Range<usize> {
     y0 as usize / BAND_ROWS..(y1 as usize - 1) / BAND_ROWS + 1
 }
 
-/// Runs the per-point stage on vertices `range` once, keeping `P` per point, and bins them.
-fn bin<P: Binned>(ctx: &DrawContext, range: std::ops::Range<u32>, bands: usize) -> Chunk<P> {
+/// Runs the per-point stage on vertices `range` once, keeping `P` per point, and bins them
+/// into `chunk` (emptied first, its capacity reused).
+fn bin<P: Binned>(
+    chunk: &mut Chunk<P>,
+    ctx: &DrawContext,
+    range: std::ops::Range<u32>,
+    bands: usize,
+) {
     // Room for an even spread plus a quarter, so that uniform scenes never grow a band.
     let room = range.len() / bands + range.len() / (4 * bands) + 16;
-    let mut out: Vec<Vec<P>> = (0..bands).map(|_| Vec::with_capacity(room)).collect();
+    chunk.bands.resize_with(bands, Vec::new);
+    for band in &mut chunk.bands {
+        band.clear();
+        band.reserve(room);
+    }
+    let out = &mut chunk.bands;
     ctx.squares
         .for_each(&ctx.points, ctx.vertices, range, |index, p| {
             if let Some(c) = P::new(ctx, p, index) {
@@ -613,7 +671,6 @@ fn bin<P: Binned>(ctx: &DrawContext, range: std::ops::Range<u32>, bands: usize) 
                 }
             }
         });
-    Chunk { bands: out }
 }
 
 /// The parallel plan of the module contract with bins of `P`.
@@ -621,6 +678,7 @@ fn draw_binned<B: Blender, P: Binned>(
     ctx: &DrawContext,
     b: &B,
     target: &mut RenderTarget,
+    chunks: &mut Vec<Chunk<P>>,
     count: u32,
     threads: usize,
 ) {
@@ -628,10 +686,12 @@ fn draw_binned<B: Blender, P: Binned>(
     let bands = (target.height as usize).div_ceil(BAND_ROWS);
     let chunk = (count as usize).div_ceil(threads * 4).max(1024) as u32;
     let firsts: Vec<u32> = (0..count).step_by(chunk as usize).collect();
-    let chunks: Vec<Chunk<P>> = firsts
-        .par_iter()
-        .map(|&first| bin(ctx, first..(first + chunk).min(count), bands))
-        .collect();
+    chunks.resize_with(firsts.len(), Chunk::default);
+    chunks
+        .par_iter_mut()
+        .zip(&firsts)
+        .for_each(|(c, &first)| bin(c, ctx, first..(first + chunk).min(count), bands));
+    let chunks = &*chunks;
     target
         .color
         .par_chunks_mut(BAND_ROWS * width)
@@ -648,10 +708,22 @@ fn draw_binned<B: Blender, P: Binned>(
                 y1,
             };
             let mut scratch = Scratch::default();
-            for c in &chunks {
+            for c in chunks {
                 P::fill_all(&c.bands[n], ctx, b, &mut band, &mut scratch);
             }
         });
+}
+
+/// Frees the bins of `P` when they hold more than [`RETAINED_BIN_BYTES`].
+fn trim_bins<P>(chunks: &mut Vec<Chunk<P>>) {
+    let capacity: usize = chunks
+        .iter()
+        .flat_map(|c| &c.bands)
+        .map(Vec::capacity)
+        .sum();
+    if capacity * size_of::<P>() > RETAINED_BIN_BYTES {
+        chunks.clear();
+    }
 }
 
 fn fill<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band, s: &mut Scratch) {
@@ -995,8 +1067,8 @@ mod tests {
             .build()
             .unwrap();
         pool.install(|| match ctx.pixel.blend {
-            None => draw_with(&ctx, &Replace, target),
-            Some(b) => draw_with(&ctx, &General(b), target),
+            None => draw_with(&ctx, &Replace, target, &mut Bins::default()),
+            Some(b) => draw_with(&ctx, &General(b), target, &mut Bins::default()),
         });
     }
 
@@ -1077,7 +1149,7 @@ mod tests {
             };
             let mut fast = clear(&mut rng);
             let mut general = fast.clone();
-            draw(&mut fast, state, fvf, &vertices);
+            draw(&mut fast, &mut Bins::default(), state, fvf, &vertices);
             draw_general(&mut general, state, fvf, &vertices);
             let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
             for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
