@@ -320,6 +320,13 @@ impl Default for SamplerDesc {
 }
 
 impl SamplerDesc {
+    /// False when [`Texture::at_lod`] picks the same level and filter whatever the level of
+    /// detail (SPEC 5.2): no mip filter, and MINFILTER and MAGFILTER both linear or both not.
+    #[inline]
+    pub fn needs_lod(&self) -> bool {
+        self.mip != TextureFilter::None || is_linear(self.mag) != is_linear(self.min)
+    }
+
     /// Decodes raw sampler state values, indexed by [`SamplerState`] number. Values that are not
     /// a known enum value fall back to the default for that field; MIPMAPLODBIAS is f32 bits.
     pub fn from_states(raw: &[u32; SamplerState::COUNT]) -> SamplerDesc {
@@ -585,6 +592,54 @@ mod tests {
             vec![0xFF00_0000, 0xFF00_0001, 0xFF00_0002, 0xFF00_0003],
         )
         .unwrap()
+    }
+
+    /// Without a mip filter and with MIN and MAG alike, every level of detail (and bias,
+    /// NaN and infinities included) gives the same sampler; otherwise some pair differs.
+    #[test]
+    fn spec_5_2_needs_lod_says_when_the_level_of_detail_matters() {
+        let t = Texture::from_argb(8, 4, (0..32).collect()).unwrap();
+        let lods = [
+            f32::NEG_INFINITY,
+            -3.0,
+            -0.0,
+            0.0,
+            0.4,
+            0.6,
+            1.5,
+            9.0,
+            f32::INFINITY,
+            f32::NAN,
+        ];
+        let key = |l: LodSampler| {
+            (
+                l.level().width,
+                l.mip_blend().map(|(_, f)| f.to_bits()),
+                l.is_linear(),
+            )
+        };
+        for &mag in TextureFilter::ALL {
+            for &min in TextureFilter::ALL {
+                for &mip in TextureFilter::ALL {
+                    for bias in [0.0, -1.0, 2.5] {
+                        let s = SamplerDesc {
+                            mag,
+                            min,
+                            mip,
+                            mip_lod_bias: bias,
+                            ..SamplerDesc::default()
+                        };
+                        let keys: Vec<_> = lods.iter().map(|&l| key(t.at_lod(&s, l))).collect();
+                        let same = keys.iter().all(|k| *k == keys[0]);
+                        if !s.needs_lod() {
+                            assert!(same, "{s:?}: {keys:?}");
+                        } else if bias == 0.0 {
+                            assert!(!same, "{s:?} says it needs the level of detail");
+                        }
+                    }
+                }
+            }
+        }
     }
 
     fn point_at(t: &Texture, s: &SamplerDesc, u: f32, v: f32) -> u32 {

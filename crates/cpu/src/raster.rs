@@ -196,12 +196,18 @@ struct StageTexture<'a> {
     texture: &'a Texture,
     sampler: SamplerDesc,
     set: usize,
+    /// The sampler of every level of detail, when it does not depend on it
+    /// ([`SamplerDesc::needs_lod`]).
+    fixed: Option<LodSampler<'a>>,
 }
 
 impl<'a> StageTexture<'a> {
     /// The sampler at the level of detail of a sprite of `size` pixels (SPEC 4.3, 5.2).
     #[inline]
     fn sprite_sampler(&self, size: f32) -> LodSampler<'a> {
+        if let Some(fixed) = self.fixed {
+            return fixed;
+        }
         let lod = sprite_lod(self.texture.width(), self.texture.height(), size);
         self.texture.at_lod(&self.sampler, lod)
     }
@@ -210,6 +216,8 @@ impl<'a> StageTexture<'a> {
 /// Everything resolved once per draw.
 struct DrawContext<'a> {
     points: PointSetup,
+    /// [`PixelSetup::is_flat`], once per draw.
+    flat: bool,
     squares: SquareStage,
     pixel: PixelSetup,
     shading: Shading,
@@ -352,15 +360,20 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         if i >= pixel.stage_count || !stage.samples {
             return None;
         }
-        state.textures[i].as_deref().map(|texture| StageTexture {
-            texture,
-            sampler: SamplerDesc::from_states(&state.sampler_states[i]),
-            set: stage.texcoord_set,
+        state.textures[i].as_deref().map(|texture| {
+            let sampler = SamplerDesc::from_states(&state.sampler_states[i]);
+            StageTexture {
+                texture,
+                sampler,
+                set: stage.texcoord_set,
+                fixed: (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0)),
+            }
         })
     });
     let points = PointSetup::new(state, fvf);
     DrawContext {
         squares: SquareStage::new(&points),
+        flat: pixel.is_flat(),
         points,
         shading: shading(&pixel),
         pixel,
@@ -373,9 +386,9 @@ fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget, bi
     let pixel_planes = ctx.points.scaled_planes() && !ctx.points.user_planes().is_empty();
     if pixel_planes {
         draw_points::<B, Index>(ctx, b, target, bins);
-    } else if ctx.pixel.is_flat() && ctx.shading == Shading::Diffuse {
+    } else if ctx.flat && ctx.shading == Shading::Diffuse {
         draw_points::<B, Solid>(ctx, b, target, bins);
-    } else if !ctx.pixel.is_flat() && matches!(ctx.shading, Shading::Modulate(_)) {
+    } else if !ctx.flat && matches!(ctx.shading, Shading::Modulate(_)) {
         draw_points::<B, Sprite>(ctx, b, target, bins);
     } else {
         draw_points::<B, Index>(ctx, b, target, bins);
@@ -606,7 +619,10 @@ impl Binned for Sprite {
             planes: [PixelPlane::default(); 6],
             plane_count: 0,
         };
-        fill(ctx, b, &p, band, s);
+        // Sprites are binned only for this shading (see `draw_with`).
+        if let Shading::Modulate(alpha) = ctx.shading {
+            fill_modulate(ctx, b, &p, band, s, alpha);
+        }
     }
 }
 
@@ -727,7 +743,7 @@ fn trim_bins<P>(chunks: &mut Vec<Chunk<P>>) {
 }
 
 fn fill<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band, s: &mut Scratch) {
-    if ctx.pixel.is_flat() {
+    if ctx.flat {
         fill_flat(ctx, b, p, band);
     } else {
         match ctx.shading {
@@ -916,7 +932,12 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
         ModulateAlpha::Modulate | ModulateAlpha::Diffuse => d,
     };
     let diffuse_alpha = alpha == ModulateAlpha::Diffuse;
-    let (m4, d4) = (P4::splat(m.lanes()), P4::splat(d.lanes()));
+    // Their planar forms, for the spans.
+    let (m4, d4) = if spans && cols.len() >= 4 {
+        (P4::splat(m.lanes()), P4::splat(d.lanes()))
+    } else {
+        (P4::splat([0.0; 4]), P4::splat([0.0; 4]))
+    };
     let mask = ctx.pixel.write_mask;
     // Neither alpha nor depth test: a span writes all four pixels.
     let plain = ctx.pixel.alpha_test.is_none() && ctx.pixel.depth.is_none();
