@@ -77,8 +77,14 @@ impl Backend for CpuBackend {
         // A 1920x1080 target is 16 MB of colour and depth: fill it on every thread.
         use rayon::prelude::*;
         const CHUNK: usize = 1 << 16;
-        self.target.color.par_chunks_mut(CHUNK).for_each(|c| c.fill(color));
-        self.target.depth.par_chunks_mut(CHUNK).for_each(|d| d.fill(depth));
+        self.target
+            .color
+            .par_chunks_mut(CHUNK)
+            .for_each(|c| c.fill(color));
+        self.target
+            .depth
+            .par_chunks_mut(CHUNK)
+            .for_each(|d| d.fill(depth));
         Ok(())
     }
 

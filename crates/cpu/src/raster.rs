@@ -37,7 +37,8 @@ use crate::stage::{Square, SquareStage};
 /// Target rows per band: small enough to spread work over threads, large enough that small
 /// sprites rarely straddle two bands.
 const BAND_ROWS: usize = 32;
-/// Draws with fewer points run on the calling thread.
+/// Draws with fewer points run one point after another on the calling thread; bigger ones are
+/// binned, with any number of threads (the bands' locality pays on one thread too).
 const PARALLEL_MIN_POINTS: u32 = 2048;
 
 /// How a source colour combines with the target.
@@ -215,6 +216,8 @@ impl<'a> StageTexture<'a> {
 
 /// Everything resolved once per draw.
 struct DrawContext<'a> {
+    /// Draws of this many points or more are binned ([`PARALLEL_MIN_POINTS`]; tests raise it).
+    bin_from: u32,
     points: PointSetup,
     /// [`PixelSetup::is_flat`], once per draw.
     flat: bool,
@@ -372,6 +375,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
     });
     let points = PointSetup::new(state, fvf);
     DrawContext {
+        bin_from: PARALLEL_MIN_POINTS,
         squares: SquareStage::new(&points),
         flat: pixel.is_flat(),
         points,
@@ -395,8 +399,8 @@ fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget, bi
     }
 }
 
-/// Small draws, and every draw on one thread, run one point after another on the calling
-/// thread; the rest follow the parallel plan of the module contract with bins of `P`.
+/// Small draws run one point after another on the calling thread; the rest follow the
+/// parallel plan of the module contract with bins of `P`.
 fn draw_points<B: Blender, P: Binned>(
     ctx: &DrawContext,
     b: &B,
@@ -405,7 +409,7 @@ fn draw_points<B: Blender, P: Binned>(
 ) {
     let count = (ctx.vertices.len() / ctx.points.layout().stride) as u32;
     let threads = rayon::current_num_threads();
-    if threads > 1 && count >= PARALLEL_MIN_POINTS {
+    if count >= ctx.bin_from {
         draw_binned::<B, P>(ctx, b, target, P::chunks(bins), count, threads);
         return trim_bins(P::chunks(bins));
     }
@@ -1180,6 +1184,123 @@ mod tests {
                 );
             }
             assert_eq!(fast.depth, general.depth, "scene {scene}");
+        }
+    }
+
+    /// The parallel plan (bins, bands, one or more threads) gives the bytes of drawing the
+    /// points one after another, for flat points, sprites and points cut by clip planes.
+    #[test]
+    fn binned_draws_match_sequential_drawing() {
+        let mut rng = Rng(0x0B1B_5EED_0000_0001);
+        for scene in 0..12 {
+            let (w, h) = (150, 110);
+            let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+            let sprite = scene % 3 != 0;
+            if sprite {
+                let texels = (0..64).map(|_| rng.next()).collect();
+                let texture = Arc::new(Texture::from_argb(8, 8, texels).unwrap());
+                device.set_texture(0, Some(texture)).unwrap();
+                device.set_render_state(RenderState::POINTSPRITEENABLE, true);
+                let filter = rng.pick(&[TextureFilter::Point, TextureFilter::Linear]);
+                device
+                    .set_sampler_state(0, SamplerState::MINFILTER, filter as u32)
+                    .unwrap();
+                device
+                    .set_sampler_state(0, SamplerState::MAGFILTER, filter as u32)
+                    .unwrap();
+            }
+            let blend = rng.pick(&[
+                (Blend::One, Blend::One),
+                (Blend::SrcAlpha, Blend::InvSrcAlpha),
+            ]);
+            device.set_render_state(RenderState::ALPHABLENDENABLE, scene % 4 != 3);
+            device.set_render_state(RenderState::SRCBLEND, blend.0);
+            device.set_render_state(RenderState::DESTBLEND, blend.1);
+            device.set_render_state(RenderState::ZENABLE, scene % 2 == 0);
+            let transformed = scene % 4 == 1;
+            let fvf = if transformed {
+                // A clip plane through the middle cuts squares per pixel (SPEC 3.3).
+                let view = pointillist_core::math::Mat4::look_at_lh(
+                    [0.0, 0.0, -10.0],
+                    [0.0; 3],
+                    [0.0, 1.0, 0.0],
+                );
+                device.set_transform(pointillist_core::device::TransformType::View, view);
+                let projection =
+                    pointillist_core::math::Mat4::perspective_fov_lh(1.0, 1.36, 0.5, 50.0);
+                device.set_transform(
+                    pointillist_core::device::TransformType::Projection,
+                    projection,
+                );
+                device.set_clip_plane(0, [1.0, 0.3, 0.0, 0.2]).unwrap();
+                device.set_render_state(RenderState::CLIPPLANEENABLE, 1u32);
+                Fvf(Fvf::XYZ.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0)
+            } else {
+                Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0)
+            };
+            let mut vertices = Vec::new();
+            for _ in 0..5000 {
+                let words = if transformed {
+                    [
+                        rng.range(-6.0, 6.0).to_bits(),
+                        rng.range(-5.0, 5.0).to_bits(),
+                        rng.range(-3.0, 10.0).to_bits(),
+                        rng.range(0.5, 3.0).to_bits(),
+                        rng.next(),
+                    ]
+                } else {
+                    [
+                        rng.range(-10.0, 160.0).to_bits(),
+                        rng.range(-10.0, 120.0).to_bits(),
+                        rng.range(0.0, 1.0).to_bits(),
+                        1.0f32.to_bits(),
+                        rng.range(0.5, 24.0).to_bits(),
+                    ]
+                };
+                let mut row = words.to_vec();
+                if !transformed {
+                    row.push(rng.next());
+                }
+                vertices.extend(row.iter().flat_map(|w| w.to_le_bytes()));
+            }
+            let state = device.state();
+            let drawn = |threads: usize, bin_from: u32| {
+                let mut target = RenderTarget::new(w, h, 0xFF10_2030, 1.0);
+                let mut ctx = context(state, fvf, &vertices);
+                ctx.bin_from = bin_from;
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| match ctx.pixel.blend {
+                    None => draw_with(&ctx, &Replace, &mut target, &mut Bins::default()),
+                    Some(b) if b.is_additive() => {
+                        draw_with(&ctx, &Additive, &mut target, &mut Bins::default())
+                    }
+                    Some(b) => draw_with(&ctx, &General(b), &mut target, &mut Bins::default()),
+                });
+                target
+            };
+            let sequential = drawn(1, u32::MAX);
+            assert!(
+                sequential
+                    .color
+                    .iter()
+                    .filter(|&&c| c != 0xFF10_2030)
+                    .count()
+                    > 1000
+            );
+            for threads in [1, 2, 3] {
+                let binned = drawn(threads, PARALLEL_MIN_POINTS);
+                assert!(
+                    binned.color == sequential.color,
+                    "scene {scene}, {threads} threads: colour"
+                );
+                assert!(
+                    binned.depth == sequential.depth,
+                    "scene {scene}, {threads} threads: depth"
+                );
+            }
         }
     }
 
