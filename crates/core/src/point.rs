@@ -35,8 +35,13 @@ pub fn scaled_size(si: f32, scale: &PointScale, de: f32) -> f32 {
 /// +infinity clamps to `hi`. A NaN bound is no bound, but never beyond the caps' size.
 #[inline]
 pub fn clamp_size(ss: f32, size_min: f32, size_max: f32, max_point_size: f32) -> f32 {
+    clamp_to_bounds(ss, clamp_bounds(size_min, size_max, max_point_size))
+}
+
+/// [`clamp_size`] with its bounds resolved by [`clamp_bounds`] (once per draw).
+#[inline]
+pub fn clamp_to_bounds(ss: f32, (lo, hi): (f32, f32)) -> f32 {
     let ss = if ss >= 0.0 { ss } else { 0.0 }; // NaN and negatives
-    let (lo, hi) = clamp_bounds(size_min, size_max, max_point_size);
     ss.max(lo).min(hi)
 }
 
@@ -213,9 +218,8 @@ pub struct PointSetup {
     use_vertex_size: bool,
     scale: Option<PointScale>,
     single_pixel: bool,
-    size_min: f32,
-    size_max: f32,
-    max_point_size: f32,
+    /// SPEC 2.3's `(lo, hi)`, from [`clamp_bounds`].
+    size_bounds: (f32, f32),
     clipping: bool,
     /// Enabled user clip planes: world space (vertex mode) or clip space (scaled mode).
     planes: [[f32; 4]; 6],
@@ -299,9 +303,11 @@ impl PointSetup {
             use_vertex_size: fvf.has_psize() && caps.per_vertex_point_size,
             scale,
             single_pixel: caps.max_point_size <= 1.0,
-            size_min: rf(RenderState::POINTSIZE_MIN),
-            size_max: rf(RenderState::POINTSIZE_MAX),
-            max_point_size: caps.max_point_size,
+            size_bounds: clamp_bounds(
+                rf(RenderState::POINTSIZE_MIN),
+                rf(RenderState::POINTSIZE_MAX),
+                caps.max_point_size,
+            ),
             clipping,
             planes,
             plane_count,
@@ -375,7 +381,7 @@ impl PointSetup {
 
     /// The clamp bounds `(lo, hi)` of SPEC 2.3 for this draw, as [`clamp_bounds`] gives them.
     pub fn size_bounds(&self) -> (f32, f32) {
-        clamp_bounds(self.size_min, self.size_max, self.max_point_size)
+        self.size_bounds
     }
 
     /// D3DRS_CLIPPING: points outside the depth range are dropped (SPEC 3.1).
@@ -406,7 +412,15 @@ impl PointSetup {
             Some(scale) => scaled_size(si, scale, de),
             None => si,
         };
-        clamp_size(ss, self.size_min, self.size_max, self.max_point_size)
+        clamp_to_bounds(ss, self.size_bounds)
+    }
+
+    /// SPEC 3.1 for a pre-transformed vertex with finite coordinates: w = 1/RHW must be
+    /// positive, and with clipping the depth `z` inside the viewport's `[min_z, max_z]`.
+    #[inline]
+    pub fn keeps_pretransformed(&self, z: f32, rhw: f32) -> bool {
+        let vp = &self.viewport;
+        rhw > 0.0 && (!self.clipping || (vp.min_z <= z && z <= vp.max_z))
     }
 
     /// SPEC 1, 2.2 and 3.1 for a finite object-space position of a transformed vertex: its
@@ -449,11 +463,9 @@ impl PointSetup {
             Some(o) if self.use_vertex_size => read_f32(v, o),
             _ => self.point_size,
         };
-        let vp = &self.viewport;
         let (x, y, z, size, clip) = if self.pretransformed {
             let (x, y, z, rhw) = (pos[0], pos[1], pos[2], pos[3]);
-            // SPEC 3.1: w = 1/RHW must be positive; depth range checked in screen space.
-            if rhw <= 0.0 || (self.clipping && !(vp.min_z <= z && z <= vp.max_z)) {
+            if !self.keeps_pretransformed(z, rhw) {
                 return None;
             }
             (x, y, z, self.size(si, 0.0), None)

@@ -346,12 +346,16 @@ pub(crate) fn draw(
     fvf: Fvf,
     vertices: &[u8],
 ) {
-    let ctx = context(state, fvf, vertices);
+    draw_context(&context(state, fvf, vertices), target, bins);
+}
+
+/// Draws with the states resolved in `ctx`, through the blend family's fill.
+fn draw_context(ctx: &DrawContext, target: &mut RenderTarget, bins: &mut Bins) {
     match ctx.pixel.blend {
-        None => draw_with(&ctx, &Replace, target, bins),
-        Some(b) if b.is_additive() => draw_with(&ctx, &Additive, target, bins),
-        Some(b) if is_source_alpha(&b) => draw_with(&ctx, &SourceAlpha, target, bins),
-        Some(b) => draw_with(&ctx, &General(b), target, bins),
+        None => draw_with(ctx, &Replace, target, bins),
+        Some(b) if b.is_additive() => draw_with(ctx, &Additive, target, bins),
+        Some(b) if is_source_alpha(&b) => draw_with(ctx, &SourceAlpha, target, bins),
+        Some(b) => draw_with(ctx, &General(b), target, bins),
     }
 }
 
@@ -1272,13 +1276,7 @@ mod tests {
                     .num_threads(threads)
                     .build()
                     .unwrap();
-                pool.install(|| match ctx.pixel.blend {
-                    None => draw_with(&ctx, &Replace, &mut target, &mut Bins::default()),
-                    Some(b) if b.is_additive() => {
-                        draw_with(&ctx, &Additive, &mut target, &mut Bins::default())
-                    }
-                    Some(b) => draw_with(&ctx, &General(b), &mut target, &mut Bins::default()),
-                });
+                pool.install(|| draw_context(&ctx, &mut target, &mut Bins::default()));
                 target
             };
             let sequential = drawn(1, u32::MAX);

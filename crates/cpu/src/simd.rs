@@ -203,7 +203,7 @@ pub(crate) fn add_rect(
 ) {
     let ((x0, x1), (r0, r1)) = (cols, rows);
     assert!(x0 <= x1 && x1 <= pitch && r0 <= r1 && r1 * pitch <= color.len());
-    imp::add_rect(color, pitch, x0, x1, r0, r1, c, mask)
+    imp::add_rect(color, pitch, cols, rows, c, mask)
 }
 
 /// True when no lane is NaN or infinite (SPEC 3.1).
@@ -319,15 +319,12 @@ mod scalar {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn add_rect(
         color: &mut [u32],
         pitch: usize,
-        x0: usize,
-        x1: usize,
-        r0: usize,
-        r1: usize,
+        (x0, x1): (usize, usize),
+        (r0, r1): (usize, usize),
         c: u32,
         mask: u32,
     ) {
@@ -509,15 +506,12 @@ mod sse2 {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(crate) fn add_rect(
         color: &mut [u32],
         pitch: usize,
-        x0: usize,
-        x1: usize,
-        r0: usize,
-        r1: usize,
+        (x0, x1): (usize, usize),
+        (r0, r1): (usize, usize),
         c: u32,
         mask: u32,
     ) {
@@ -664,7 +658,7 @@ mod tests {
     }
 
     #[test]
-    fn add_rect_matches_the_scalar_rows() {
+    fn add_rect_matches_the_scalar_twin() {
         let mut rng = Rng(0x7777_1234_ABCD_0003);
         for _ in 0..5_000 {
             let pitch = 1 + (rng.next() % 13) as usize;
@@ -679,7 +673,7 @@ mod tests {
             let mut ours = image.clone();
             add_rect(&mut ours, pitch, (x0, x1), (r0, r1), c, mask);
             let mut twin = image;
-            scalar::add_rect(&mut twin, pitch, x0, x1, r0, r1, c, mask);
+            scalar::add_rect(&mut twin, pitch, (x0, x1), (r0, r1), c, mask);
             assert_eq!(ours, twin, "{pitch} {x0}..{x1} {r0}..{r1}");
         }
     }

@@ -7,7 +7,7 @@
 //! points and gives the same squares, bit for bit.
 
 use pointillist_core::fvf::{read_f32, read_u32};
-use pointillist_core::point::{PixelRect, PointScale, PointSetup, ScreenPoint, scaled_size};
+use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
 
 use crate::simd;
 
@@ -69,8 +69,9 @@ impl SquareStage {
 }
 
 /// [`PointSetup::process`] for vertices without user clip planes (SPEC 2, 3.1, 3.2, 4.1): a
-/// point is its screen position, its clamped (and for transformed vertices, scaled) size and
-/// its diffuse colour.
+/// point is its screen position, its size and its diffuse colour. The rules are core's
+/// (`keeps_pretransformed`, `project`, `size`); what is resolved here per draw is where the
+/// vertex's fields are, whether every point has one size, and the viewport as float bounds.
 pub(crate) struct Twin {
     stride: usize,
     pretransformed: bool,
@@ -79,18 +80,9 @@ pub(crate) struct Twin {
     /// PSIZE's offset when the vertex's size is used; otherwise `Si` is `point_size`.
     psize: Option<usize>,
     point_size: f32,
-    /// SPEC 2.2's terms when sizes are scaled.
-    scale: Option<PointScale>,
     /// The size of every point, when it depends on nothing per vertex.
     size: Option<f32>,
-    single_pixel: bool,
-    /// SPEC 2.3's bounds.
-    lo: f32,
-    hi: f32,
     diffuse: Option<usize>,
-    /// `(min_z, max_z)` when CLIPPING drops pre-transformed points outside the depth range
-    /// (SPEC 3.1; transformed ones are tested in clip space by `project`).
-    depth_range: Option<(f32, f32)>,
     /// The viewport's pixel rectangle as floats, the lower and upper bounds of the edges
     /// `left, top, right, bottom`: `[x0, y0, x0, y0]` and `[x1, y1, x1, y1]`.
     lower: [f32; 4],
@@ -104,47 +96,23 @@ impl Twin {
             return None;
         }
         let layout = points.layout();
-        let (lo, hi) = points.size_bounds();
         let single_pixel = points.is_single_pixel();
         let psize = layout
             .psize
             .filter(|_| points.uses_vertex_size() && !single_pixel);
-        let scale = points.scale().copied();
-        let vp = points.viewport();
         let r = points.viewport_rect();
-        let pretransformed = points.is_pretransformed();
         Some(Twin {
             stride: layout.stride,
-            pretransformed,
+            pretransformed: points.is_pretransformed(),
             position_len: layout.position_len,
             psize,
             point_size: points.point_size(),
-            scale,
-            size: (psize.is_none() && (scale.is_none() || single_pixel))
+            size: (psize.is_none() && (points.scale().is_none() || single_pixel))
                 .then(|| points.size(points.point_size(), 0.0)),
-            single_pixel,
-            lo,
-            hi,
             diffuse: layout.diffuse,
-            depth_range: (pretransformed && points.clipping()).then_some((vp.min_z, vp.max_z)),
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
         })
-    }
-
-    /// SPEC 2: the size for input size `si` at eye distance `de`, with the bounds resolved:
-    /// NaN and negative sizes count as 0.
-    #[inline(always)]
-    fn size(&self, si: f32, de: f32) -> f32 {
-        if self.single_pixel {
-            return 1.0;
-        }
-        let ss = match &self.scale {
-            Some(scale) => scaled_size(si, scale, de),
-            None => si,
-        };
-        let ss = if ss >= 0.0 { ss } else { 0.0 };
-        ss.max(self.lo).min(self.hi)
     }
 
     /// Vertex `index` as a square, `None` when it is dropped or covers no pixel.
@@ -168,22 +136,19 @@ impl Twin {
         if !simd::all_finite(position) {
             return None;
         }
-        let si = || self.psize.map_or(self.point_size, |o| read_f32(v, o));
+        let size = |de: f32| match self.size {
+            Some(size) => size,
+            None => points.size(self.psize.map_or(self.point_size, |o| read_f32(v, o)), de),
+        };
         let (x, y, z, size) = if self.pretransformed {
             let [x, y, z, rhw] = position;
-            // SPEC 3.1: w = 1/RHW positive, depth inside the range.
-            if rhw <= 0.0 {
+            if !points.keeps_pretransformed(z, rhw) {
                 return None;
             }
-            if let Some((min_z, max_z)) = self.depth_range {
-                if !(min_z <= z && z <= max_z) {
-                    return None;
-                }
-            }
-            (x, y, z, self.size.unwrap_or_else(|| self.size(si(), 0.0)))
+            (x, y, z, size(0.0))
         } else {
             let p = points.project(position)?;
-            let size = self.size.unwrap_or_else(|| self.size(si(), p.eye_distance));
+            let size = size(p.eye_distance);
             if !simd::all_finite([p.x, p.y, p.z, 0.0]) {
                 return None;
             }
