@@ -42,9 +42,15 @@ pub fn device(desc: DeviceDesc) -> Result<CpuDevice, DeviceError> {
 }
 
 /// The CPU backend: owns the render target and its depth buffer in memory.
+///
+/// A clear is deferred to the next draw, which writes it band by band just before the band's
+/// points, while the band is in cache (as tiled GPUs and llvmpipe do); reading the target
+/// writes a pending clear first, so the deferral is never visible.
 #[derive(Debug, Default)]
 pub struct CpuBackend {
     target: RenderTarget,
+    /// The colour and depth of a clear not yet written.
+    pending_clear: Option<(u32, f32)>,
     /// The rasterizer's bins, kept from draw to draw.
     bins: raster::Bins,
 }
@@ -56,8 +62,15 @@ impl CpuBackend {
     }
 
     /// The target as drawn so far, without copying.
-    pub fn target(&self) -> &RenderTarget {
+    pub fn target(&mut self) -> &RenderTarget {
+        self.write_pending_clear();
         &self.target
+    }
+
+    fn write_pending_clear(&mut self) {
+        if let Some(clear) = self.pending_clear.take() {
+            raster::clear(&mut self.target, clear);
+        }
     }
 }
 
@@ -74,17 +87,7 @@ impl Backend for CpuBackend {
     }
 
     fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError> {
-        // A 1920x1080 target is 16 MB of colour and depth: fill it on every thread.
-        use rayon::prelude::*;
-        const CHUNK: usize = 1 << 16;
-        self.target
-            .color
-            .par_chunks_mut(CHUNK)
-            .for_each(|c| c.fill(color));
-        self.target
-            .depth
-            .par_chunks_mut(CHUNK)
-            .for_each(|d| d.fill(depth));
+        self.pending_clear = Some((color, depth));
         Ok(())
     }
 
@@ -94,11 +97,20 @@ impl Backend for CpuBackend {
         fvf: Fvf,
         vertices: &[u8],
     ) -> Result<(), DeviceError> {
-        raster::draw(&mut self.target, &mut self.bins, state, fvf, vertices);
+        let clear = self.pending_clear.take();
+        raster::draw(
+            &mut self.target,
+            &mut self.bins,
+            clear,
+            state,
+            fvf,
+            vertices,
+        );
         Ok(())
     }
 
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        self.write_pending_clear();
         Ok(self.target.clone())
     }
 }

@@ -28,7 +28,9 @@ use pointillist_core::point::{
     PixelPlane, PixelRect, PointSetup, ScreenPoint, sprite_coord, sprite_lod,
 };
 use pointillist_core::states::{Blend, BlendOp, TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
-use pointillist_core::texture::{LodSampler, SamplerDesc, Texture, linear_texel, point_texel};
+use pointillist_core::texture::{
+    Level, LodSampler, SamplerDesc, Texture, linear_texel, point_texel,
+};
 use rayon::prelude::*;
 
 use crate::simd::{F4, P4};
@@ -339,23 +341,46 @@ struct Band<'t> {
     y1: i32,
 }
 
+/// A clear's colour and depth.
+pub(crate) type Clear = (u32, f32);
+
+/// Draws `vertices` after writing `clear`, if any, to the whole target.
 pub(crate) fn draw(
     target: &mut RenderTarget,
     bins: &mut Bins,
+    clear: Option<Clear>,
     state: &DeviceState,
     fvf: Fvf,
     vertices: &[u8],
 ) {
-    draw_context(&context(state, fvf, vertices), target, bins);
+    draw_context(&context(state, fvf, vertices), target, bins, clear);
+}
+
+/// Writes `clear` to the whole target, on every thread (a 1920x1080 target is 16 MB).
+pub(crate) fn clear(target: &mut RenderTarget, (color, depth): Clear) {
+    const CHUNK: usize = 1 << 16;
+    target
+        .color
+        .par_chunks_mut(CHUNK)
+        .for_each(|c| c.fill(color));
+    target
+        .depth
+        .par_chunks_mut(CHUNK)
+        .for_each(|d| d.fill(depth));
 }
 
 /// Draws with the states resolved in `ctx`, through the blend family's fill.
-fn draw_context(ctx: &DrawContext, target: &mut RenderTarget, bins: &mut Bins) {
+fn draw_context(
+    ctx: &DrawContext,
+    target: &mut RenderTarget,
+    bins: &mut Bins,
+    clear: Option<Clear>,
+) {
     match ctx.pixel.blend {
-        None => draw_with(ctx, &Replace, target, bins),
-        Some(b) if b.is_additive() => draw_with(ctx, &Additive, target, bins),
-        Some(b) if is_source_alpha(&b) => draw_with(ctx, &SourceAlpha, target, bins),
-        Some(b) => draw_with(ctx, &General(b), target, bins),
+        None => draw_with(ctx, &Replace, target, bins, clear),
+        Some(b) if b.is_additive() => draw_with(ctx, &Additive, target, bins, clear),
+        Some(b) if is_source_alpha(&b) => draw_with(ctx, &SourceAlpha, target, bins, clear),
+        Some(b) => draw_with(ctx, &General(b), target, bins, clear),
     }
 }
 
@@ -390,32 +415,44 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
     }
 }
 
-fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, target: &mut RenderTarget, bins: &mut Bins) {
+fn draw_with<B: Blender>(
+    ctx: &DrawContext,
+    b: &B,
+    target: &mut RenderTarget,
+    bins: &mut Bins,
+    clear: Option<Clear>,
+) {
     let pixel_planes = ctx.points.scaled_planes() && !ctx.points.user_planes().is_empty();
     if pixel_planes {
-        draw_points::<B, Index>(ctx, b, target, bins);
+        draw_points::<B, Index>(ctx, b, target, bins, clear);
     } else if ctx.flat && ctx.shading == Shading::Diffuse {
-        draw_points::<B, Solid>(ctx, b, target, bins);
-    } else if !ctx.flat && matches!(ctx.shading, Shading::Modulate(_)) {
-        draw_points::<B, Sprite>(ctx, b, target, bins);
+        draw_points::<B, Solid>(ctx, b, target, bins, clear);
+    } else if !ctx.flat && matches!(ctx.shading, Shading::Modulate(_)) && ctx.textures[0].is_some()
+    {
+        draw_points::<B, Sprite>(ctx, b, target, bins, clear);
     } else {
-        draw_points::<B, Index>(ctx, b, target, bins);
+        draw_points::<B, Index>(ctx, b, target, bins, clear);
     }
 }
 
 /// Small draws run one point after another on the calling thread; the rest follow the
-/// parallel plan of the module contract with bins of `P`.
+/// parallel plan of the module contract with bins of `P`, each band writing `clear` just
+/// before its points.
 fn draw_points<B: Blender, P: Binned>(
     ctx: &DrawContext,
     b: &B,
     target: &mut RenderTarget,
     bins: &mut Bins,
+    clear: Option<Clear>,
 ) {
     let count = (ctx.vertices.len() / ctx.points.layout().stride) as u32;
     let threads = rayon::current_num_threads();
     if count >= ctx.bin_from {
-        draw_binned::<B, P>(ctx, b, target, P::chunks(bins), count, threads);
+        draw_binned::<B, P>(ctx, b, target, P::chunks(bins), clear, count, threads);
         return trim_bins(P::chunks(bins));
+    }
+    if let Some(c) = clear {
+        self::clear(target, c);
     }
     let mut band = Band {
         color: &mut target.color,
@@ -611,25 +648,20 @@ impl Binned for Sprite {
     fn rows(&self) -> (i32, i32) {
         self.rect.rows()
     }
+    #[inline]
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
-        let p = ScreenPoint {
-            // The centre is not read by the fill; specular and the vertex only by the cascade.
-            x: 0.0,
-            y: 0.0,
+        let view = SpriteView {
+            rect: self.rect.get(),
             z: self.z,
-            size: self.size,
+            diffuse: self.diffuse,
             left: self.left,
             top: self.top,
-            rect: self.rect.get(),
-            diffuse: self.diffuse,
-            specular: 0,
-            vertex: 0,
-            planes: [PixelPlane::default(); 6],
-            plane_count: 0,
+            size: self.size,
+            planes: &[],
         };
-        // Sprites are binned only for this shading (see `draw_with`).
-        if let Shading::Modulate(alpha) = ctx.shading {
-            fill_modulate(ctx, b, &p, band, s, alpha);
+        // Sprites are binned only for this shading, with a texture (see `draw_with`).
+        if let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) {
+            fill_modulate(ctx, b, &view, t, band, s, alpha);
         }
     }
 }
@@ -703,6 +735,7 @@ fn draw_binned<B: Blender, P: Binned>(
     b: &B,
     target: &mut RenderTarget,
     chunks: &mut Vec<Chunk<P>>,
+    clear: Option<Clear>,
     count: u32,
     threads: usize,
 ) {
@@ -722,6 +755,10 @@ fn draw_binned<B: Blender, P: Binned>(
         .zip(target.depth.par_chunks_mut(BAND_ROWS * width))
         .enumerate()
         .for_each(|(n, (color, depth))| {
+            if let Some((c, d)) = clear {
+                color.fill(c);
+                depth.fill(d);
+            }
             let y0 = (n * BAND_ROWS) as i32;
             let y1 = y0 + (color.len() / width) as i32;
             let mut band = Band {
@@ -755,7 +792,10 @@ fn fill<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band, 
         fill_flat(ctx, b, p, band);
     } else {
         match ctx.shading {
-            Shading::Modulate(alpha) => fill_modulate(ctx, b, p, band, s, alpha),
+            Shading::Modulate(alpha) => match &ctx.textures[0] {
+                Some(t) => fill_modulate(ctx, b, &SpriteView::of(p), t, band, s, alpha),
+                None => fill_sprite(ctx, b, p, band, &mut s.u),
+            },
             _ => fill_sprite(ctx, b, p, band, &mut s.u),
         }
     }
@@ -870,35 +910,230 @@ fn fill_sprite<B: Blender>(
     }
 }
 
-/// A textured sprite with [`Shading::Modulate`]: the cascade's arithmetic for that one stage,
-/// `texture * diffuse` per channel with the alpha of `alpha` (SPEC 5.1), sampled at the sprite's
-/// level of detail (SPEC 4.3, 5.2).
+/// What the fills of a textured sprite read of a point (SPEC 4.3): the covered rectangle,
+/// depth, diffuse colour, near edges, side and per-pixel clip planes.
+#[derive(Copy, Clone)]
+struct SpriteView<'p> {
+    rect: PixelRect,
+    z: f32,
+    diffuse: u32,
+    left: f32,
+    top: f32,
+    size: f32,
+    planes: &'p [PixelPlane],
+}
+
+impl<'p> SpriteView<'p> {
+    fn of(p: &'p ScreenPoint) -> SpriteView<'p> {
+        SpriteView {
+            rect: p.rect,
+            z: p.z,
+            diffuse: p.diffuse,
+            left: p.left,
+            top: p.top,
+            size: p.size,
+            planes: p.pixel_planes(),
+        }
+    }
+
+    /// Whether the clip planes keep pixel `(i, j)` (SPEC 3.3).
+    #[inline(always)]
+    fn keeps(&self, i: i32, j: i32) -> bool {
+        self.planes.is_empty() || self.planes.iter().all(|pl| pl.keeps(i, j))
+    }
+}
+
+/// The texel index along an axis of `n` texels and the weight of the next texel (SPEC 5.2):
+/// [`linear_texel`] when filtering (`LINEAR`), [`point_texel`] and weight 0 otherwise.
+#[inline(always)]
+fn texel_index<const LINEAR: bool>(coord: f32, n: u32) -> (i64, f32) {
+    if LINEAR {
+        linear_texel(coord, n)
+    } else {
+        (point_texel(coord, n), 0.0)
+    }
+}
+
+/// Whether texel index `k`, and `k + 1` when filtering, are inside an axis of `n` texels, where
+/// every address mode reads them as they are.
+#[inline(always)]
+fn texel_inside<const LINEAR: bool>(k: i64, n: u32) -> bool {
+    k >= 0 && k + i64::from(LINEAR) < i64::from(n)
+}
+
+impl Column {
+    /// Covered column `i` of sprite `p` on a level `w` texels wide; `single`: the sampler reads
+    /// that level alone (no mip blend).
+    #[inline(always)]
+    fn new<const LINEAR: bool>(i: i32, p: &SpriteView, w: u32, single: bool) -> Column {
+        let u = sprite_coord(i, p.left, p.size);
+        let (k, fx) = texel_index::<LINEAR>(u, w);
+        let k = if single && texel_inside::<LINEAR>(k, w) {
+            k as i32
+        } else {
+            -1
+        };
+        Column { u, k, fx }
+    }
+}
+
+/// One pixel row of a sprite on a level (SPEC 4.3, 5.2).
+#[derive(Copy, Clone)]
+struct TexelRow<'l> {
+    /// Sprite v.
+    v: f32,
+    /// The first texel row read.
+    l: i64,
+    /// Weight of the second texel row (linear filtering).
+    fy: f32,
+    /// The level's texels from row `l` on, or nothing when the rows read are not inside the
+    /// level (or the sampler blends two levels) and the sampler decides.
+    texels: &'l [u32],
+}
+
+impl<'l> TexelRow<'l> {
+    /// Pixel row `j` of sprite `p` on `level`; `single`: the sampler reads that level alone.
+    #[inline(always)]
+    fn new<const LINEAR: bool>(j: i32, p: &SpriteView, level: &'l Level, single: bool) -> Self {
+        let v = sprite_coord(j, p.top, p.size);
+        let (l, fy) = texel_index::<LINEAR>(v, level.height);
+        let texels: &[u32] = if single && texel_inside::<LINEAR>(l, level.height) {
+            &level.texels[l as usize * level.width as usize..]
+        } else {
+            &[]
+        };
+        TexelRow { v, l, fy, texels }
+    }
+
+    /// The texel of the pixel at column `c` (SPEC 5.2): read from the level (`width` texels
+    /// wide) where both indices are inside, sampled otherwise.
+    #[inline(always)]
+    fn texel<const LINEAR: bool>(&self, width: usize, c: &Column, sampler: &LodSampler) -> F4 {
+        let texels = self.texels;
+        if c.k < 0 || texels.is_empty() {
+            return F4::from_rgba(sampler.sample(c.u, self.v));
+        }
+        let at = c.k as usize;
+        if !LINEAR {
+            return F4::from_argb(texels[at]);
+        }
+        let fx = F4::splat(c.fx);
+        let top = F4::lerp(F4::from_argb(texels[at]), F4::from_argb(texels[at + 1]), fx);
+        let bottom = F4::lerp(
+            F4::from_argb(texels[at + width]),
+            F4::from_argb(texels[at + width + 1]),
+            fx,
+        );
+        F4::lerp(top, bottom, F4::splat(self.fy))
+    }
+}
+
+/// The single MODULATE stage of [`Shading::Modulate`] for one diffuse colour (SPEC 5.1).
+#[derive(Copy, Clone)]
+struct Modulate {
+    /// The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
+    /// passes through unchanged.
+    m: F4,
+    diffuse: F4,
+    /// The result takes the diffuse alpha.
+    diffuse_alpha: bool,
+}
+
+impl Modulate {
+    #[inline(always)]
+    fn new(alpha: ModulateAlpha, diffuse: u32) -> Modulate {
+        let d = F4::from_argb(diffuse);
+        Modulate {
+            m: match alpha {
+                ModulateAlpha::Texture => d.with_alpha_of(F4::splat(1.0)),
+                ModulateAlpha::Modulate | ModulateAlpha::Diffuse => d,
+            },
+            diffuse: d,
+            diffuse_alpha: alpha == ModulateAlpha::Diffuse,
+        }
+    }
+
+    /// The stage's result for `texel`, packed (SPEC 1).
+    #[inline(always)]
+    fn shade(&self, texel: F4) -> u32 {
+        let shaded = texel.mul(self.m);
+        if self.diffuse_alpha {
+            shaded.with_alpha_of(self.diffuse).to_argb()
+        } else {
+            shaded.to_argb()
+        }
+    }
+}
+
+/// A textured sprite with [`Shading::Modulate`] and stage 0's texture `t`: the cascade's
+/// arithmetic for that one stage, `texture * diffuse` per channel with the alpha of `alpha`
+/// (SPEC 5.1), sampled at the sprite's level of detail (SPEC 4.3, 5.2).
 fn fill_modulate<B: Blender>(
     ctx: &DrawContext,
     b: &B,
-    p: &ScreenPoint,
+    p: &SpriteView,
+    t: &StageTexture,
     band: &mut Band,
     s: &mut Scratch,
     alpha: ModulateAlpha,
 ) {
-    let Some(t) = &ctx.textures[0] else {
-        return fill_sprite(ctx, b, p, band, &mut s.u);
-    };
     let sampler = t.sprite_sampler(p.size);
-    if sampler.is_linear() {
-        fill_modulate_with::<B, true>(ctx, b, p, band, s, alpha, &sampler);
-    } else {
-        fill_modulate_with::<B, false>(ctx, b, p, band, s, alpha, &sampler);
+    let narrow = p.rect.x1 - p.rect.x0 < 4;
+    match (sampler.is_linear(), narrow) {
+        (true, true) => fill_narrow::<B, true>(ctx, b, p, band, alpha, &sampler),
+        (false, true) => fill_narrow::<B, false>(ctx, b, p, band, alpha, &sampler),
+        (true, false) => fill_modulate_with::<B, true>(ctx, b, p, band, s, alpha, &sampler),
+        (false, false) => fill_modulate_with::<B, false>(ctx, b, p, band, s, alpha, &sampler),
+    }
+}
+
+/// [`fill_modulate`] for a sprite under four columns wide, too narrow for spans: its columns
+/// on the stack, each pixel through [`TexelRow::texel`] (the commonest particle is a few pixels).
+fn fill_narrow<B: Blender, const LINEAR: bool>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    alpha: ModulateAlpha,
+    sampler: &LodSampler,
+) {
+    let level = sampler.level();
+    let single = sampler.mip_blend().is_none();
+    let x0 = p.rect.x0;
+    let mut cols = [Column {
+        u: 0.0,
+        k: -1,
+        fx: 0.0,
+    }; 3];
+    let len = (p.rect.x1 - x0) as usize;
+    for (c, i) in cols.iter_mut().zip(x0..p.rect.x1) {
+        *c = Column::new::<LINEAR>(i, p, level.width, single);
+    }
+    let modulate = Modulate::new(alpha, p.diffuse);
+    let width = level.width as usize;
+    for j in rows(p.rect, band) {
+        let texel_row = TexelRow::new::<LINEAR>(j, p, level, single);
+        let row = (j - band.y0) as usize * band.width + x0 as usize;
+        for (n, c) in cols[..len].iter().enumerate() {
+            if !p.keeps(x0 + n as i32, j) {
+                continue;
+            }
+            let color = modulate.shade(texel_row.texel::<LINEAR>(width, c, sampler));
+            if alpha_test_passes(ctx.pixel.alpha_test, color) {
+                write_pixel(ctx, b, band, row + n, p.z, color);
+            }
+        }
     }
 }
 
 /// [`fill_modulate`] for linear (`LINEAR`) or point filtering: texel indices and weights per
-/// column and per row, then per pixel one texel read (point) or one vertical lerp of two
-/// filtered texel rows ([`TexelRows`], linear) where the texels are inside the level.
+/// column and per row, then four pixels at a time where the texels of all four are inside the
+/// level (one texel read each, or one vertical lerp of two filtered texel rows,
+/// [`TexelRows`]), and [`TexelRow::texel`] for the other pixels.
 fn fill_modulate_with<B: Blender, const LINEAR: bool>(
     ctx: &DrawContext,
     b: &B,
-    p: &ScreenPoint,
+    p: &SpriteView,
     band: &mut Band,
     s: &mut Scratch,
     alpha: ModulateAlpha,
@@ -908,65 +1143,32 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
     texel_rows.reset();
     let level = sampler.level();
     let single = sampler.mip_blend().is_none();
-    let (w, h) = (level.width, level.height);
-    // Texel index k is read directly when k (and k + 1 when filtering) is inside the level.
-    let reach = if LINEAR { 1 } else { 0 };
-    let inside = |k: i64, n: u32| single && k >= 0 && k + reach < i64::from(n);
     cols.clear();
-    cols.extend((p.rect.x0..p.rect.x1).map(|i| {
-        let u = sprite_coord(i, p.left, p.size);
-        let (k, fx) = if LINEAR {
-            linear_texel(u, w)
-        } else {
-            (point_texel(u, w), 0.0)
-        };
-        let k = if inside(k, w) { k as i32 } else { -1 };
-        Column { u, k, fx }
-    }));
-    let planes = p.pixel_planes();
+    cols.extend((p.rect.x0..p.rect.x1).map(|i| Column::new::<LINEAR>(i, p, level.width, single)));
     // Spans of four pixels need no clip planes. With linear filtering they read filtered texel
     // rows, which pay for sprites four columns wide or more.
-    let spans = planes.is_empty();
-    let filtered_rows = LINEAR && spans && cols.len() >= 4;
+    let spans = p.planes.is_empty();
+    let filtered_rows = LINEAR && spans;
     groups.clear();
     if filtered_rows {
         groups.extend(cols.chunks(4).map(Group::new));
     }
-    let d = F4::from_argb(p.diffuse);
-    // The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
-    // passes through unchanged.
-    let m = match alpha {
-        ModulateAlpha::Texture => d.with_alpha_of(F4::splat(1.0)),
-        ModulateAlpha::Modulate | ModulateAlpha::Diffuse => d,
-    };
-    let diffuse_alpha = alpha == ModulateAlpha::Diffuse;
-    // Their planar forms, for the spans.
-    let (m4, d4) = if spans && cols.len() >= 4 {
-        (P4::splat(m.lanes()), P4::splat(d.lanes()))
-    } else {
-        (P4::splat([0.0; 4]), P4::splat([0.0; 4]))
-    };
+    let modulate = Modulate::new(alpha, p.diffuse);
+    // Its planar form, for the spans.
+    let m4 = P4::splat(modulate.m.lanes());
+    let d4 = P4::splat(modulate.diffuse.lanes());
     let mask = ctx.pixel.write_mask;
     // Neither alpha nor depth test: a span writes all four pixels.
     let plain = ctx.pixel.alpha_test.is_none() && ctx.pixel.depth.is_none();
-    let width = w as usize;
+    let width = level.width as usize;
     let len = cols.len();
     for j in rows(p.rect, band) {
-        let v = sprite_coord(j, p.top, p.size);
-        let (l, fy) = if LINEAR {
-            linear_texel(v, h)
-        } else {
-            (point_texel(v, h), 0.0)
-        };
-        let direct = inside(l, h);
-        // Texel rows l (and l + 1 when filtering), and their horizontal lerps for the spans.
-        let texels: &[u32] = if direct {
-            &level.texels[l as usize * width..]
-        } else {
-            &[]
-        };
+        let texel_row = TexelRow::new::<LINEAR>(j, p, level, single);
+        let TexelRow { fy, texels, .. } = texel_row;
+        let direct = !texels.is_empty();
+        // The horizontal lerps of texel rows l and l + 1 for the spans.
         let [top, bottom] = if direct && filtered_rows {
-            texel_rows.pair(&level.texels, width, groups, l)
+            texel_rows.pair(&level.texels, width, groups, texel_row.l)
         } else {
             [&[][..], &[][..]]
         };
@@ -980,14 +1182,15 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                 four.len() == 4 && four.iter().all(|c| c.k >= 0)
             };
             if spans && direct && n % 4 == 0 && direct4 {
-                // Four pixels at once, the arithmetic below lane by lane.
+                // Four pixels at once, the arithmetic of `pixel_texel` and `Modulate` lane by
+                // lane.
                 let texel = if LINEAR {
                     P4::lerp_by(top[n / 4], bottom[n / 4], fy)
                 } else {
                     P4::from_argb(std::array::from_fn(|i| texels[four[i].k as usize]))
                 };
                 let mut shaded = texel.mul(m4);
-                if diffuse_alpha {
+                if modulate.diffuse_alpha {
                     shaded = shaded.with_alpha_of(d4);
                 }
                 let (src, src4) = shaded.quantize();
@@ -1019,34 +1222,12 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                 n += 4;
                 continue;
             }
-            let (i, c) = (p.rect.x0 + n as i32, &cols[n]);
+            let c = &cols[n];
             n += 1;
-            if !planes.is_empty() && !planes.iter().all(|pl| pl.keeps(i, j)) {
+            if !p.keeps(p.rect.x0 + n as i32 - 1, j) {
                 continue;
             }
-            let texel = if c.k >= 0 && direct {
-                let at = c.k as usize;
-                if LINEAR {
-                    let fx = F4::splat(c.fx);
-                    let top =
-                        F4::lerp(F4::from_argb(texels[at]), F4::from_argb(texels[at + 1]), fx);
-                    let bottom = F4::lerp(
-                        F4::from_argb(texels[at + width]),
-                        F4::from_argb(texels[at + width + 1]),
-                        fx,
-                    );
-                    F4::lerp(top, bottom, F4::splat(fy))
-                } else {
-                    F4::from_argb(texels[at])
-                }
-            } else {
-                F4::from_rgba(sampler.sample(c.u, v))
-            };
-            let mut shaded = texel.mul(m);
-            if diffuse_alpha {
-                shaded = shaded.with_alpha_of(d);
-            }
-            let color = shaded.to_argb();
+            let color = modulate.shade(texel_row.texel::<LINEAR>(width, c, sampler));
             if alpha_test_passes(ctx.pixel.alpha_test, color) {
                 write_pixel(ctx, b, band, row + n - 1, p.z, color);
             }
@@ -1096,8 +1277,8 @@ mod tests {
             .build()
             .unwrap();
         pool.install(|| match ctx.pixel.blend {
-            None => draw_with(&ctx, &Replace, target, &mut Bins::default()),
-            Some(b) => draw_with(&ctx, &General(b), target, &mut Bins::default()),
+            None => draw_with(&ctx, &Replace, target, &mut Bins::default(), None),
+            Some(b) => draw_with(&ctx, &General(b), target, &mut Bins::default(), None),
         });
     }
 
@@ -1178,7 +1359,7 @@ mod tests {
             };
             let mut fast = clear(&mut rng);
             let mut general = fast.clone();
-            draw(&mut fast, &mut Bins::default(), state, fvf, &vertices);
+            draw(&mut fast, &mut Bins::default(), None, state, fvf, &vertices);
             draw_general(&mut general, state, fvf, &vertices);
             let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
             for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
@@ -1276,7 +1457,7 @@ mod tests {
                     .num_threads(threads)
                     .build()
                     .unwrap();
-                pool.install(|| draw_context(&ctx, &mut target, &mut Bins::default()));
+                pool.install(|| draw_context(&ctx, &mut target, &mut Bins::default(), None));
                 target
             };
             let sequential = drawn(1, u32::MAX);

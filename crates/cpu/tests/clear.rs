@@ -1,0 +1,95 @@
+//! The CPU backend defers a clear to the next draw, which writes it band by band; the result
+//! must be the pixels of a clear written at once, for binned and sequential draws, through a
+//! depth test that reads the cleared depth.
+
+mod common;
+
+use common::Rng;
+
+use pointillist_core::device::{DeviceDesc, RenderTarget};
+use pointillist_core::fvf::Fvf;
+use pointillist_core::states::{Blend, Cmp, RenderState};
+
+const CLEAR_COLOR: u32 = 0xFF20_4060;
+const CLEAR_DEPTH: f32 = 0.6;
+
+/// Points with depths in 0..1 under a LESS depth test (so the cleared depth 0.6 rejects some),
+/// additive, after an earlier draw that wrote colour and depth; `read_after_clear` reads the
+/// target right after the clear, which writes the clear at once.
+fn render(points: usize, read_after_clear: bool) -> RenderTarget {
+    let mut d = pointillist_cpu::device(DeviceDesc::new(200, 150)).expect("device");
+    let mut rng = Rng(0x00C1_EA25_0000_0003);
+    let rhw = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+    let mut vertices = |n: usize| -> Vec<u8> {
+        let mut v = Vec::new();
+        for _ in 0..n {
+            let words = [
+                (rng.unit() * 220.0 - 10.0).to_bits(),
+                (rng.unit() * 170.0 - 10.0).to_bits(),
+                rng.unit().to_bits(),
+                1.0f32.to_bits(),
+                (1.0 + rng.unit() * 6.0).to_bits(),
+                rng.next_u64() as u32,
+            ];
+            v.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+        }
+        v
+    };
+    d.set_render_state(RenderState::ZENABLE, true);
+    d.set_render_state(RenderState::ZWRITEENABLE, true);
+    d.set_render_state(RenderState::ZFUNC, Cmp::Less);
+    let before = vertices(3000);
+    d.draw_point_list(rhw, &before).expect("first draw");
+    d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
+    if read_after_clear {
+        let cleared = d.read_target().expect("read back");
+        assert!(cleared.color.iter().all(|&c| c == CLEAR_COLOR));
+        assert!(cleared.depth.iter().all(|&z| z == CLEAR_DEPTH));
+    }
+    d.set_render_state(RenderState::ALPHABLENDENABLE, true);
+    d.set_render_state(RenderState::SRCBLEND, Blend::One);
+    d.set_render_state(RenderState::DESTBLEND, Blend::One);
+    let after = vertices(points);
+    d.draw_point_list(rhw, &after).expect("second draw");
+    d.read_target().expect("read back")
+}
+
+#[test]
+fn a_deferred_clear_gives_the_pixels_of_an_immediate_one() {
+    // 5,000 points are binned, 100 are drawn one after another.
+    for points in [5000, 100] {
+        let deferred = render(points, false);
+        let immediate = render(points, true);
+        let cleared = deferred.color.iter().filter(|&&c| c == CLEAR_COLOR).count();
+        let kept = deferred.depth.iter().filter(|&&z| z == CLEAR_DEPTH).count();
+        assert!(
+            cleared > 0 && kept > 0 && kept < deferred.depth.len(),
+            "{points} points: {cleared} pixels keep the clear colour, {kept} its depth"
+        );
+        let differing = deferred
+            .color
+            .iter()
+            .zip(&immediate.color)
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(differing, 0, "{points} points: {differing} pixels differ");
+        assert!(
+            deferred
+                .depth
+                .iter()
+                .zip(&immediate.depth)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+        );
+    }
+}
+
+#[test]
+fn a_clear_without_a_draw_is_read_back() {
+    let mut d = pointillist_cpu::device(DeviceDesc::new(64, 48)).expect("device");
+    d.clear(0xFF00_FF00, 0.25).expect("clear");
+    d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
+    let t = d.read_target().expect("read back");
+    assert!(t.color.iter().all(|&c| c == CLEAR_COLOR));
+    assert!(t.depth.iter().all(|&z| z == CLEAR_DEPTH));
+    assert_eq!(d.backend_mut().target().pixel(5, 5), CLEAR_COLOR);
+}
