@@ -1,8 +1,8 @@
 //! Four colour channels at once: [`F4`], four f32 lanes in D3DCOLOR byte order (blue, green, red,
 //! alpha), for the pixel loop's float arithmetic (SPEC 1, 5.1, 5.2, 5.5); and the ONE/ONE blend
 //! as a saturating byte add, of one pixel ([`add_pixel`]) or of one colour into a row or a
-//! rectangle of pixels, four pixels at a time ([`add_rect`]); and the pre-transformed
-//! point stage's tests and ceilings four coordinates at a time ([`all_finite`], [`ceil_clamped`]).
+//! rectangle of pixels, four pixels at a time ([`add_rect`]); and the point stage's tests, transforms and ceilings four coordinates at a time ([`F4::is_finite`],
+//! [`F4::load`], [`ceil_clamped`]).
 //!
 //! Contract: every operation is, lane by lane, the exact IEEE f32 operation the scalar reference
 //! performs on that channel (`color::unpack`, `color::pack`, the sampler's lerp, the blend
@@ -80,6 +80,35 @@ impl F4 {
     #[inline(always)]
     pub(crate) fn lanes(self) -> [f32; 4] {
         imp::lanes(self.0)
+    }
+
+    /// Four values, in lane order.
+    #[inline(always)]
+    pub(crate) fn from_lanes(v: [f32; 4]) -> F4 {
+        F4(imp::from_lanes(v))
+    }
+
+    /// The four little-endian f32 at the start of `bytes`, straight into lanes (a vertex's
+    /// position: no round trip through memory).
+    ///
+    /// # Panics
+    /// When `bytes` is shorter than 16.
+    #[inline(always)]
+    pub(crate) fn load(bytes: &[u8]) -> F4 {
+        let bytes: &[u8; 16] = bytes[..16].try_into().expect("16 bytes");
+        F4(imp::load(bytes))
+    }
+
+    /// Lane-wise `self / o`.
+    #[inline(always)]
+    pub(crate) fn div(self, o: F4) -> F4 {
+        F4(imp::div(self.0, o.0))
+    }
+
+    /// True when no lane is NaN or infinite (SPEC 3.1).
+    #[inline(always)]
+    pub(crate) fn is_finite(self) -> bool {
+        imp::is_finite(self.0)
     }
 
     /// The alpha lane in every lane.
@@ -206,12 +235,6 @@ pub(crate) fn add_rect(
     imp::add_rect(color, pitch, cols, rows, c, mask)
 }
 
-/// True when no lane is NaN or infinite (SPEC 3.1).
-#[inline(always)]
-pub(crate) fn all_finite(v: [f32; 4]) -> bool {
-    imp::all_finite(v)
-}
-
 /// Lane by lane `ceil(v.max(lo).min(hi))` as i32, for `v` not NaN and integer bounds in
 /// `0..=2^24` (the clamped value is then exact in i32 and truncation is `floor`).
 #[inline(always)]
@@ -334,8 +357,25 @@ mod scalar {
     }
 
     #[inline(always)]
-    pub(crate) fn all_finite(v: [f32; 4]) -> bool {
+    pub(crate) fn is_finite(v: V) -> bool {
         v.iter().all(|x| x.is_finite())
+    }
+
+    #[inline(always)]
+    pub(crate) fn load(bytes: &[u8; 16]) -> V {
+        std::array::from_fn(|i| {
+            f32::from_le_bytes([
+                bytes[4 * i],
+                bytes[4 * i + 1],
+                bytes[4 * i + 2],
+                bytes[4 * i + 3],
+            ])
+        })
+    }
+
+    #[inline(always)]
+    pub(crate) fn div(a: V, b: V) -> V {
+        std::array::from_fn(|i| a[i] / b[i])
     }
 
     #[inline(always)]
@@ -553,14 +593,26 @@ mod sse2 {
     }
 
     #[inline(always)]
-    pub(crate) fn all_finite(v: [f32; 4]) -> bool {
-        // SAFETY: as in `from_argb`; `loadu` reads the four f32 of `v` at any alignment.
+    pub(crate) fn is_finite(x: V) -> bool {
+        // SAFETY: as in `from_argb`.
         unsafe {
             // x * 0 is 0 for finite x and NaN for infinities and NaN.
             let zero = _mm_setzero_ps();
-            let x = _mm_loadu_ps(v.as_ptr());
             _mm_movemask_ps(_mm_cmpeq_ps(_mm_mul_ps(x, zero), zero)) == 0xF
         }
+    }
+
+    #[inline(always)]
+    pub(crate) fn load(bytes: &[u8; 16]) -> V {
+        // SAFETY: as in `from_argb`; `loadu` reads the 16 bytes of `bytes` at any alignment,
+        // and x86-64 is little-endian.
+        unsafe { _mm_loadu_ps(bytes.as_ptr().cast()) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn div(a: V, b: V) -> V {
+        // SAFETY: as in `from_argb`.
+        unsafe { _mm_div_ps(a, b) }
     }
 
     #[inline(always)]
@@ -697,7 +749,18 @@ mod tests {
                 _ => rng.range(-100.0, 20000.0),
             };
             let v = [lane(), lane(), lane(), lane()];
-            assert_eq!(all_finite(v), scalar::all_finite(v), "{v:?}");
+            let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+            let loaded = F4::load(&bytes);
+            let bits = |v: [f32; 4]| v.map(f32::to_bits);
+            assert_eq!(bits(loaded.lanes()), bits(v));
+            assert_eq!(bits(scalar::load(&bytes.try_into().unwrap())), bits(v));
+            assert_eq!(loaded.is_finite(), scalar::is_finite(v), "{v:?}");
+            let w = [lane(), lane(), lane(), lane()];
+            assert_eq!(
+                bits(F4::from_lanes(v).div(F4::from_lanes(w)).lanes()),
+                bits(scalar::div(v, w)),
+                "{v:?} / {w:?}"
+            );
             if v.iter().any(|x| x.is_nan()) {
                 continue;
             }

@@ -1,7 +1,7 @@
 //! The per-point stage for the fills that need only a point's square: core's
 //! [`PointSetup::process`] (SPEC 2, 3.1, 3.2, 4.1), with a fast twin for vertices without
-//! per-pixel clip planes that resolves everything per draw and keeps nothing the fills do not
-//! read (transformed vertices go through core's own [`PointSetup::project`]).
+//! per-pixel clip planes that resolves everything per draw, keeps nothing the fills do not
+//! read, and runs [`PointSetup::project`]'s two transforms four lanes at a time.
 //!
 //! The twin is tested against `process` on random and hostile vertices: it drops the same
 //! points and gives the same squares, bit for bit.
@@ -9,7 +9,7 @@
 use pointillist_core::fvf::{read_f32, read_u32};
 use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
 
-use crate::simd;
+use crate::simd::{self, F4};
 
 /// What the compact fills read of a point: its covered rectangle (never empty), depth, size,
 /// near edges and diffuse colour (SPEC 4.1 to 4.3).
@@ -87,6 +87,74 @@ pub(crate) struct Twin {
     /// `left, top, right, bottom`: `[x0, y0, x0, y0]` and `[x1, y1, x1, y1]`.
     lower: [f32; 4],
     upper: [f32; 4],
+    /// The vertex holds 16 bytes from its position on, read at once.
+    load16: bool,
+    /// For transformed vertices.
+    projector: Projector,
+}
+
+/// [`PointSetup::project`] (SPEC 1, 2.2, 3.1) with each transform's four output lanes at
+/// once: every lane the same products and sums, in the same order, so the same bits.
+struct Projector {
+    /// Rows of WORLD * VIEW and of PROJECTION.
+    world_view: [F4; 4],
+    projection: [F4; 4],
+    clipping: bool,
+    /// Viewport x, y, width, height as floats, min z, and max z - min z.
+    x: f32,
+    y: f32,
+    width: f32,
+    height: f32,
+    min_z: f32,
+    depth: f32,
+}
+
+impl Projector {
+    fn new(points: &PointSetup) -> Projector {
+        let rows = |m: &pointillist_core::math::Mat4| m.0.map(F4::from_lanes);
+        let vp = points.viewport();
+        Projector {
+            world_view: rows(points.world_view()),
+            projection: rows(points.projection()),
+            clipping: points.clipping(),
+            x: vp.x as f32,
+            y: vp.y as f32,
+            width: vp.width as f32,
+            height: vp.height as f32,
+            min_z: vp.min_z,
+            depth: vp.max_z - vp.min_z,
+        }
+    }
+
+    /// `Mat4::transform`: `v[0] * m[0][c] + v[1] * m[1][c] + v[2] * m[2][c] + v[3] * m[3][c]`.
+    #[inline(always)]
+    fn transform(m: &[F4; 4], v: [f32; 4]) -> F4 {
+        let term = |k: usize| F4::splat(v[k]).mul(m[k]);
+        term(0).add(term(1)).add(term(2)).add(term(3))
+    }
+
+    /// The screen position and eye distance of a finite position, `None` when it is dropped.
+    #[inline(always)]
+    fn project(&self, position: [f32; 4]) -> Option<([f32; 3], f32)> {
+        let eye = Self::transform(&self.world_view, position);
+        let clip = Self::transform(&self.projection, eye.lanes());
+        let c = clip.lanes();
+        if !clip.is_finite() || c[3] <= 0.0 {
+            return None;
+        }
+        if self.clipping && !(0.0 <= c[2] && c[2] <= c[3]) {
+            return None;
+        }
+        let e = eye.lanes();
+        let eye_distance = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+        let q = clip.div(F4::splat(c[3])).lanes();
+        let screen = [
+            self.x + (1.0 + q[0]) * self.width / 2.0,
+            self.y + (1.0 - q[1]) * self.height / 2.0,
+            self.min_z + q[2] * self.depth,
+        ];
+        Some((screen, eye_distance))
+    }
 }
 
 impl Twin {
@@ -112,6 +180,8 @@ impl Twin {
             diffuse: layout.diffuse,
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
+            load16: layout.stride >= 16,
+            projector: Projector::new(points),
         })
     }
 
@@ -125,17 +195,27 @@ impl Twin {
     ) -> Option<Square> {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + self.stride];
-        let head: &[u8; 12] = v[..12].try_into().expect("positions have 3 or 4 floats");
-        let w = if self.position_len == 4 {
-            read_f32(v, 12)
+        let position = if self.load16 {
+            let p = F4::load(v);
+            // XYZ: w = 1 (the fourth float is another field).
+            if self.position_len == 4 {
+                p
+            } else {
+                p.with_alpha_of(F4::splat(1.0))
+            }
         } else {
-            1.0
+            let w = if self.position_len == 4 {
+                read_f32(v, 12)
+            } else {
+                1.0
+            };
+            F4::from_lanes([read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w])
         };
-        let position = [read_f32(head, 0), read_f32(head, 4), read_f32(head, 8), w];
         // SPEC 3.1: finite coordinates.
-        if !simd::all_finite(position) {
+        if !position.is_finite() {
             return None;
         }
+        let position = position.lanes();
         let size = |de: f32| match self.size {
             Some(size) => size,
             None => points.size(self.psize.map_or(self.point_size, |o| read_f32(v, o)), de),
@@ -147,12 +227,12 @@ impl Twin {
             }
             (x, y, z, size(0.0))
         } else {
-            let p = points.project(position)?;
-            let size = size(p.eye_distance);
-            if !simd::all_finite([p.x, p.y, p.z, 0.0]) {
+            let ([x, y, z], eye_distance) = self.projector.project(position)?;
+            let size = size(eye_distance);
+            if !F4::from_lanes([x, y, z, 0.0]).is_finite() {
                 return None;
             }
-            (p.x, p.y, p.z, size)
+            (x, y, z, size)
         };
         let half = size / 2.0;
         let (left, top) = (x - half, y - half);
