@@ -564,6 +564,15 @@ mod sse2 {
             let cv = _mm_set1_epi32(c as i32);
             let m = _mm_set1_epi32(mask as i32);
             let mut row = color.as_mut_ptr().add(r0 * pitch + x0);
+            if n == 4 && mask == u32::MAX {
+                // The commonest small particle: one vector a row, no loop set-up.
+                for _ in r0..r1 {
+                    let at = row.cast::<__m128i>();
+                    _mm_storeu_si128(at, _mm_adds_epu8(_mm_loadu_si128(at), cv));
+                    row = row.add(pitch);
+                }
+                return;
+            }
             for _ in r0..r1 {
                 let mut i = 0;
                 if mask == u32::MAX {
