@@ -650,7 +650,44 @@ impl Binned for Sprite {
     }
     #[inline]
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
-        let view = SpriteView {
+        // Sprites are binned only for this shading, with a texture (see `draw_with`).
+        if let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) {
+            fill_modulate(ctx, b, &self.view(), t, band, s, alpha);
+        }
+    }
+
+    /// With one sampler for every size (no level of detail), it and its filter are resolved
+    /// once for the band instead of once a sprite.
+    #[inline]
+    fn fill_all<B: Blender>(
+        points: &[Sprite],
+        ctx: &DrawContext,
+        b: &B,
+        band: &mut Band,
+        s: &mut Scratch,
+    ) {
+        let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) else {
+            return;
+        };
+        let Some(sampler) = &t.fixed else {
+            return points.iter().for_each(|p| p.fill(ctx, b, band, s));
+        };
+        if sampler.is_linear() {
+            for p in points {
+                fill_modulate_at::<B, true>(ctx, b, &p.view(), band, s, alpha, sampler);
+            }
+        } else {
+            for p in points {
+                fill_modulate_at::<B, false>(ctx, b, &p.view(), band, s, alpha, sampler);
+            }
+        }
+    }
+}
+
+impl Sprite {
+    #[inline(always)]
+    fn view(&self) -> SpriteView<'static> {
+        SpriteView {
             rect: self.rect.get(),
             z: self.z,
             diffuse: self.diffuse,
@@ -658,10 +695,6 @@ impl Binned for Sprite {
             top: self.top,
             size: self.size,
             planes: &[],
-        };
-        // Sprites are binned only for this shading, with a texture (see `draw_with`).
-        if let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) {
-            fill_modulate(ctx, b, &view, t, band, s, alpha);
         }
     }
 }
@@ -1078,12 +1111,29 @@ fn fill_modulate<B: Blender>(
     alpha: ModulateAlpha,
 ) {
     let sampler = t.sprite_sampler(p.size);
-    let narrow = p.rect.x1 - p.rect.x0 < 4;
-    match (sampler.is_linear(), narrow) {
-        (true, true) => fill_narrow::<B, true>(ctx, b, p, band, alpha, &sampler),
-        (false, true) => fill_narrow::<B, false>(ctx, b, p, band, alpha, &sampler),
-        (true, false) => fill_modulate_with::<B, true>(ctx, b, p, band, s, alpha, &sampler),
-        (false, false) => fill_modulate_with::<B, false>(ctx, b, p, band, s, alpha, &sampler),
+    if sampler.is_linear() {
+        fill_modulate_at::<B, true>(ctx, b, p, band, s, alpha, &sampler);
+    } else {
+        fill_modulate_at::<B, false>(ctx, b, p, band, s, alpha, &sampler);
+    }
+}
+
+/// [`fill_modulate`] with the sampler at the sprite's level of detail, linear (`LINEAR`) or
+/// point.
+#[inline(always)]
+fn fill_modulate_at<B: Blender, const LINEAR: bool>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    s: &mut Scratch,
+    alpha: ModulateAlpha,
+    sampler: &LodSampler,
+) {
+    if p.rect.x1 - p.rect.x0 < 4 {
+        fill_narrow::<B, LINEAR>(ctx, b, p, band, alpha, sampler);
+    } else {
+        fill_modulate_with::<B, LINEAR>(ctx, b, p, band, s, alpha, sampler);
     }
 }
 
