@@ -111,6 +111,37 @@ impl F4 {
         imp::is_finite(self.0)
     }
 
+    /// Lane-wise square root.
+    #[inline(always)]
+    pub(crate) fn sqrt(self) -> F4 {
+        F4(imp::sqrt(self.0))
+    }
+
+    /// Bit `i` set where lane `i` is neither NaN nor infinite.
+    #[inline(always)]
+    pub(crate) fn finite_mask(self) -> u32 {
+        imp::finite_mask(self.0)
+    }
+
+    /// Bit `i` set where lane `i` of `self` is below that of `o` (false for NaN).
+    #[inline(always)]
+    pub(crate) fn lt_mask(self, o: F4) -> u32 {
+        imp::lt_mask(self.0, o.0)
+    }
+
+    /// Bit `i` set where lane `i` of `self` is at most that of `o` (false for NaN).
+    #[inline(always)]
+    pub(crate) fn le_mask(self, o: F4) -> u32 {
+        imp::le_mask(self.0, o.0)
+    }
+
+    /// Four vectors of four lanes, transposed: lane `j` of vector `i` becomes lane `i` of
+    /// vector `j` (four vertices' positions to their x, y, z and w).
+    #[inline(always)]
+    pub(crate) fn transpose(v: [F4; 4]) -> [F4; 4] {
+        imp::transpose(v.map(|f| f.0)).map(F4)
+    }
+
     /// The alpha lane in every lane.
     #[inline(always)]
     pub(crate) fn alpha(self) -> F4 {
@@ -362,6 +393,35 @@ mod scalar {
     }
 
     #[inline(always)]
+    pub(crate) fn sqrt(v: V) -> V {
+        v.map(f32::sqrt)
+    }
+
+    fn mask(bits: [bool; 4]) -> u32 {
+        (0..4).map(|i| u32::from(bits[i]) << i).sum()
+    }
+
+    #[inline(always)]
+    pub(crate) fn finite_mask(v: V) -> u32 {
+        mask(v.map(f32::is_finite))
+    }
+
+    #[inline(always)]
+    pub(crate) fn lt_mask(a: V, b: V) -> u32 {
+        mask(std::array::from_fn(|i| a[i] < b[i]))
+    }
+
+    #[inline(always)]
+    pub(crate) fn le_mask(a: V, b: V) -> u32 {
+        mask(std::array::from_fn(|i| a[i] <= b[i]))
+    }
+
+    #[inline(always)]
+    pub(crate) fn transpose(v: [V; 4]) -> [V; 4] {
+        std::array::from_fn(|j| std::array::from_fn(|i| v[i][j]))
+    }
+
+    #[inline(always)]
     pub(crate) fn load(bytes: &[u8; 16]) -> V {
         std::array::from_fn(|i| {
             f32::from_le_bytes([
@@ -603,11 +663,51 @@ mod sse2 {
 
     #[inline(always)]
     pub(crate) fn is_finite(x: V) -> bool {
+        finite_mask(x) == 0xF
+    }
+
+    #[inline(always)]
+    pub(crate) fn finite_mask(x: V) -> u32 {
         // SAFETY: as in `from_argb`.
         unsafe {
             // x * 0 is 0 for finite x and NaN for infinities and NaN.
             let zero = _mm_setzero_ps();
-            _mm_movemask_ps(_mm_cmpeq_ps(_mm_mul_ps(x, zero), zero)) == 0xF
+            _mm_movemask_ps(_mm_cmpeq_ps(_mm_mul_ps(x, zero), zero)) as u32
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn sqrt(a: V) -> V {
+        // SAFETY: as in `from_argb`.
+        unsafe { _mm_sqrt_ps(a) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn lt_mask(a: V, b: V) -> u32 {
+        // SAFETY: as in `from_argb`.
+        unsafe { _mm_movemask_ps(_mm_cmplt_ps(a, b)) as u32 }
+    }
+
+    #[inline(always)]
+    pub(crate) fn le_mask(a: V, b: V) -> u32 {
+        // SAFETY: as in `from_argb`.
+        unsafe { _mm_movemask_ps(_mm_cmple_ps(a, b)) as u32 }
+    }
+
+    #[inline(always)]
+    pub(crate) fn transpose([a, b, c, d]: [V; 4]) -> [V; 4] {
+        // SAFETY: as in `from_argb`.
+        unsafe {
+            let ab_lo = _mm_unpacklo_ps(a, b); // a0 b0 a1 b1
+            let cd_lo = _mm_unpacklo_ps(c, d); // c0 d0 c1 d1
+            let ab_hi = _mm_unpackhi_ps(a, b); // a2 b2 a3 b3
+            let cd_hi = _mm_unpackhi_ps(c, d); // c2 d2 c3 d3
+            [
+                _mm_movelh_ps(ab_lo, cd_lo),
+                _mm_movehl_ps(cd_lo, ab_lo),
+                _mm_movelh_ps(ab_hi, cd_hi),
+                _mm_movehl_ps(cd_hi, ab_hi),
+            ]
         }
     }
 
@@ -765,10 +865,20 @@ mod tests {
             assert_eq!(bits(scalar::load(&bytes.try_into().unwrap())), bits(v));
             assert_eq!(loaded.is_finite(), scalar::is_finite(v), "{v:?}");
             let w = [lane(), lane(), lane(), lane()];
+            let (fv, fw) = (F4::from_lanes(v), F4::from_lanes(w));
             assert_eq!(
-                bits(F4::from_lanes(v).div(F4::from_lanes(w)).lanes()),
+                bits(fv.div(fw).lanes()),
                 bits(scalar::div(v, w)),
                 "{v:?} / {w:?}"
+            );
+            assert_eq!(bits(fv.sqrt().lanes()), bits(scalar::sqrt(v)), "{v:?}");
+            assert_eq!(fv.finite_mask(), scalar::finite_mask(v), "{v:?}");
+            assert_eq!(fv.lt_mask(fw), scalar::lt_mask(v, w), "{v:?} < {w:?}");
+            assert_eq!(fv.le_mask(fw), scalar::le_mask(v, w), "{v:?} <= {w:?}");
+            let rows = [v, w, [lane(), lane(), lane(), lane()], v.map(|x| -x)];
+            assert_eq!(
+                F4::transpose(rows.map(F4::from_lanes)).map(|r| bits(r.lanes())),
+                scalar::transpose(rows).map(bits)
             );
             if v.iter().any(|x| x.is_nan()) {
                 continue;

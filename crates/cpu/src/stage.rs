@@ -1,7 +1,8 @@
 //! The per-point stage for the fills that need only a point's square: core's
 //! [`PointSetup::process`] (SPEC 2, 3.1, 3.2, 4.1), with a fast twin for vertices without
 //! per-pixel clip planes that resolves everything per draw, keeps nothing the fills do not
-//! read, and runs [`PointSetup::project`]'s two transforms four lanes at a time.
+//! read, runs [`PointSetup::project`]'s two transforms four lanes at a time, and takes
+//! transformed vertices four at a time (one vertex a lane).
 //!
 //! The twin is tested against `process` on random and hostile vertices: it drops the same
 //! points and gives the same squares, bit for bit.
@@ -55,6 +56,9 @@ impl SquareStage {
         range: std::ops::Range<u32>,
         mut f: impl FnMut(u32, &Square),
     ) {
+        if let Some(twin) = self.0.as_ref().filter(|t| !t.pretransformed) {
+            return twin.for_each_transformed(points, vertices, range, &mut f);
+        }
         // One call site of `f`, so that it inlines; the match is the same for every vertex.
         for index in range {
             let square = match &self.0 {
@@ -99,6 +103,10 @@ struct Projector {
     /// Rows of WORLD * VIEW and of PROJECTION.
     world_view: [F4; 4],
     projection: [F4; 4],
+    /// Every element of WORLD * VIEW and of PROJECTION in all four lanes, for
+    /// [`Projector::project4`].
+    world_view_splat: [[F4; 4]; 4],
+    projection_splat: [[F4; 4]; 4],
     clipping: bool,
     /// Viewport x, y, width, height as floats, min z, and max z - min z.
     x: f32,
@@ -112,10 +120,13 @@ struct Projector {
 impl Projector {
     fn new(points: &PointSetup) -> Projector {
         let rows = |m: &pointillist_core::math::Mat4| m.0.map(F4::from_lanes);
+        let splat = |m: &pointillist_core::math::Mat4| m.0.map(|row| row.map(F4::splat));
         let vp = points.viewport();
         Projector {
             world_view: rows(points.world_view()),
             projection: rows(points.projection()),
+            world_view_splat: splat(points.world_view()),
+            projection_splat: splat(points.projection()),
             clipping: points.clipping(),
             x: vp.x as f32,
             y: vp.y as f32,
@@ -154,6 +165,38 @@ impl Projector {
             self.min_z + q[2] * self.depth,
         ];
         Some((screen, eye_distance))
+    }
+
+    /// [`Projector::transform`] of four vectors given as their x, y, z and w lanes.
+    #[inline(always)]
+    fn transform4(m: &[[F4; 4]; 4], [x, y, z, w]: [F4; 4]) -> [F4; 4] {
+        std::array::from_fn(|c| {
+            x.mul(m[0][c])
+                .add(y.mul(m[1][c]))
+                .add(z.mul(m[2][c]))
+                .add(w.mul(m[3][c]))
+        })
+    }
+
+    /// [`Projector::project`] of four finite positions given as their x, y, z and w lanes: the
+    /// screen x, y, z and eye distance lanes, and bit `i` set where vertex `i` is kept.
+    #[inline(always)]
+    fn project4(&self, position: [F4; 4]) -> ([F4; 4], u32) {
+        let eye = Self::transform4(&self.world_view_splat, position);
+        let [c0, c1, c2, c3] = Self::transform4(&self.projection_splat, eye);
+        let zero = F4::splat(0.0);
+        let mut keep = c0.finite_mask() & c1.finite_mask() & c2.finite_mask() & c3.finite_mask();
+        keep &= zero.lt_mask(c3);
+        if self.clipping {
+            keep &= zero.le_mask(c2) & c2.le_mask(c3);
+        }
+        let [e0, e1, e2, _] = eye;
+        let eye_distance = e0.mul(e0).add(e1.mul(e1)).add(e2.mul(e2)).sqrt();
+        let (one, two) = (F4::splat(1.0), F4::splat(2.0));
+        let x = F4::splat(self.x).add(one.add(c0.div(c3)).mul(F4::splat(self.width)).div(two));
+        let y = F4::splat(self.y).add(one.sub(c1.div(c3)).mul(F4::splat(self.height)).div(two));
+        let z = F4::splat(self.min_z).add(c2.div(c3).mul(F4::splat(self.depth)));
+        ([x, y, z, eye_distance], keep)
     }
 }
 
@@ -253,6 +296,124 @@ impl Twin {
             diffuse: self
                 .diffuse
                 .map_or(pointillist_core::color::WHITE, |o| read_u32(v, o)),
+        })
+    }
+
+    /// [`SquareStage::for_each`] for transformed vertices, four at a time (their projection's
+    /// divisions and square roots pay for it; pre-transformed vertices are cheaper one at a
+    /// time). Not inlined, so that the pre-transformed loop keeps its own code.
+    #[inline(never)]
+    fn for_each_transformed(
+        &self,
+        points: &PointSetup,
+        vertices: &[u8],
+        range: std::ops::Range<u32>,
+        f: &mut impl FnMut(u32, &Square),
+    ) {
+        let mut index = range.start;
+        while range.end - index >= 4 {
+            let squares = self.squares4(points, vertices, index);
+            for (k, square) in squares.iter().enumerate() {
+                if let Some(s) = square {
+                    f(index + k as u32, s);
+                }
+            }
+            index += 4;
+        }
+        for index in index..range.end {
+            if let Some(s) = self.square(points, vertices, index) {
+                f(index, &s);
+            }
+        }
+    }
+
+    /// Vertices `index..index + 4` as [`Twin::square`] gives them, four lanes at a time: every
+    /// lane the same operations (the drops ANDed into one mask), so the same squares.
+    #[inline(always)]
+    pub(crate) fn squares4(
+        &self,
+        points: &PointSetup,
+        vertices: &[u8],
+        index: u32,
+    ) -> [Option<Square>; 4] {
+        let base = index as usize * self.stride;
+        let v = &vertices[base..base + 4 * self.stride];
+        let vertex = |i: usize| &v[i * self.stride..(i + 1) * self.stride];
+        let positions = std::array::from_fn(|i| {
+            let v = vertex(i);
+            if self.load16 {
+                let p = F4::load(v);
+                if self.position_len == 4 {
+                    p
+                } else {
+                    p.with_alpha_of(F4::splat(1.0))
+                }
+            } else {
+                let w = if self.position_len == 4 {
+                    read_f32(v, 12)
+                } else {
+                    1.0
+                };
+                F4::from_lanes([read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w])
+            }
+        });
+        let position = F4::transpose(positions);
+        let [px, py, pz, pw] = position;
+        // SPEC 3.1: finite coordinates.
+        let mut keep = px.finite_mask() & py.finite_mask() & pz.finite_mask() & pw.finite_mask();
+        let ([x, y, z], de) = if self.pretransformed {
+            let vp = points.viewport();
+            keep &= F4::splat(0.0).lt_mask(pw);
+            if points.clipping() {
+                keep &= F4::splat(vp.min_z).le_mask(pz) & pz.le_mask(F4::splat(vp.max_z));
+            }
+            ([px, py, pz], [0.0; 4])
+        } else {
+            let ([x, y, z, de], kept) = self.projector.project4(position);
+            keep &= kept & x.finite_mask() & y.finite_mask() & z.finite_mask();
+            ([x, y, z], de.lanes())
+        };
+        if keep == 0 {
+            return [None; 4];
+        }
+        let size = F4::from_lanes(std::array::from_fn(|i| match self.size {
+            Some(size) => size,
+            None => {
+                let si = self
+                    .psize
+                    .map_or(self.point_size, |o| read_f32(vertex(i), o));
+                points.size(si, de[i])
+            }
+        }));
+        let half = size.div(F4::splat(2.0));
+        let (left, top) = (x.sub(half), y.sub(half));
+        let (right, bottom) = (x.add(half), y.add(half));
+        let clamp =
+            |e: F4, k: usize| simd::ceil_clamped(e.lanes(), [self.lower[k]; 4], [self.upper[k]; 4]);
+        let (x0, y0, x1, y1) = (
+            clamp(left, 0),
+            clamp(top, 1),
+            clamp(right, 2),
+            clamp(bottom, 3),
+        );
+        let (z, size, left, top) = (z.lanes(), size.lanes(), left.lanes(), top.lanes());
+        std::array::from_fn(|i| {
+            let rect = PixelRect {
+                x0: x0[i],
+                y0: y0[i],
+                x1: x1[i],
+                y1: y1[i],
+            };
+            (keep & (1 << i) != 0 && !rect.is_empty()).then(|| Square {
+                rect,
+                z: z[i],
+                size: size[i],
+                left: left[i],
+                top: top[i],
+                diffuse: self
+                    .diffuse
+                    .map_or(pointillist_core::color::WHITE, |o| read_u32(vertex(i), o)),
+            })
         })
     }
 }
@@ -393,26 +554,38 @@ mod tests {
                 vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
             }
             let count = (vertices.len() / fvf.stride()) as u32;
+            // Compare bit patterns, so -0.0 and NaN count.
+            let bits = |s: Option<Square>| {
+                s.map(|s| {
+                    (
+                        s.rect,
+                        [s.z, s.size, s.left, s.top].map(f32::to_bits),
+                        s.diffuse,
+                    )
+                })
+            };
+            let reference: Vec<_> = (0..count)
+                .map(|index| bits(points.process(&vertices, index).map(|p| Square::from(&p))))
+                .collect();
             for index in 0..count {
-                let reference = points.process(&vertices, index).map(|p| Square::from(&p));
-                let ours = twin.square(&points, &vertices, index);
-                // Compare bit patterns, so -0.0 and NaN count.
-                let bits = |s: Option<Square>| {
-                    s.map(|s| {
-                        (
-                            s.rect,
-                            [s.z, s.size, s.left, s.top].map(f32::to_bits),
-                            s.diffuse,
-                        )
-                    })
-                };
+                let ours = bits(twin.square(&points, &vertices, index));
                 assert_eq!(
-                    bits(ours),
-                    bits(reference),
+                    ours, reference[index as usize],
                     "case {case} ({profile}, {fvf:?}) vertex {index}"
                 );
                 survivors += usize::from(ours.is_some());
                 tested += 1;
+            }
+            // Four vertices at a time, from an odd start so that a one-vertex tail remains.
+            let mut staged = vec![None; count as usize];
+            SquareStage(Some(twin)).for_each(&points, &vertices, 1..count, |index, s| {
+                staged[index as usize] = bits(Some(*s));
+            });
+            for index in 1..count {
+                assert_eq!(
+                    staged[index as usize], reference[index as usize],
+                    "case {case} ({profile}, {fvf:?}) vertex {index}, four at a time"
+                );
             }
         }
         // Enough ordinary points survive that the squares, not only the drops, are compared.
