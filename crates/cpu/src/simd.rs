@@ -111,6 +111,18 @@ impl F4 {
         imp::is_finite(self.0)
     }
 
+    /// Lane-wise `if self > o { self } else { o }` (`o` when either is NaN or they are equal).
+    #[inline(always)]
+    pub(crate) fn max(self, o: F4) -> F4 {
+        F4(imp::max(self.0, o.0))
+    }
+
+    /// Lane-wise `if self < o { self } else { o }` (`o` when either is NaN or they are equal).
+    #[inline(always)]
+    pub(crate) fn min(self, o: F4) -> F4 {
+        F4(imp::min(self.0, o.0))
+    }
+
     /// Lane-wise square root.
     #[inline(always)]
     pub(crate) fn sqrt(self) -> F4 {
@@ -395,6 +407,16 @@ mod scalar {
     #[inline(always)]
     pub(crate) fn sqrt(v: V) -> V {
         v.map(f32::sqrt)
+    }
+
+    #[inline(always)]
+    pub(crate) fn max(a: V, b: V) -> V {
+        std::array::from_fn(|i| if a[i] > b[i] { a[i] } else { b[i] })
+    }
+
+    #[inline(always)]
+    pub(crate) fn min(a: V, b: V) -> V {
+        std::array::from_fn(|i| if a[i] < b[i] { a[i] } else { b[i] })
     }
 
     fn mask(bits: [bool; 4]) -> u32 {
@@ -683,6 +705,18 @@ mod sse2 {
     }
 
     #[inline(always)]
+    pub(crate) fn max(a: V, b: V) -> V {
+        // SAFETY: as in `from_argb`.
+        unsafe { _mm_max_ps(a, b) }
+    }
+
+    #[inline(always)]
+    pub(crate) fn min(a: V, b: V) -> V {
+        // SAFETY: as in `from_argb`.
+        unsafe { _mm_min_ps(a, b) }
+    }
+
+    #[inline(always)]
     pub(crate) fn lt_mask(a: V, b: V) -> u32 {
         // SAFETY: as in `from_argb`.
         unsafe { _mm_movemask_ps(_mm_cmplt_ps(a, b)) as u32 }
@@ -872,6 +906,16 @@ mod tests {
                 "{v:?} / {w:?}"
             );
             assert_eq!(bits(fv.sqrt().lanes()), bits(scalar::sqrt(v)), "{v:?}");
+            assert_eq!(
+                bits(fv.max(fw).lanes()),
+                bits(scalar::max(v, w)),
+                "{v:?} {w:?}"
+            );
+            assert_eq!(
+                bits(fv.min(fw).lanes()),
+                bits(scalar::min(v, w)),
+                "{v:?} {w:?}"
+            );
             assert_eq!(fv.finite_mask(), scalar::finite_mask(v), "{v:?}");
             assert_eq!(fv.lt_mask(fw), scalar::lt_mask(v, w), "{v:?} < {w:?}");
             assert_eq!(fv.le_mask(fw), scalar::le_mask(v, w), "{v:?} <= {w:?}");

@@ -376,15 +376,34 @@ impl Twin {
         if keep == 0 {
             return [None; 4];
         }
-        let size = F4::from_lanes(std::array::from_fn(|i| match self.size {
-            Some(size) => size,
-            None => {
-                let si = self
-                    .psize
-                    .map_or(self.point_size, |o| read_f32(vertex(i), o));
-                points.size(si, de[i])
+        let si = || {
+            F4::from_lanes(std::array::from_fn(|i| {
+                self.psize
+                    .map_or(self.point_size, |o| read_f32(vertex(i), o))
+            }))
+        };
+        let size = match (self.size, points.scale()) {
+            (Some(size), _) => F4::splat(size),
+            // SPEC 2.2 and 2.3, `scaled_size` and `clamp_to_bounds` lane by lane; where the
+            // lanes' max and min differ from f32's (equal operands), only the sign of a zero
+            // size differs, and a zero size covers no pixel.
+            (None, Some(scale)) if !self.pretransformed => {
+                let splat = F4::splat;
+                let de = F4::from_lanes(de);
+                let terms = splat(scale.a)
+                    .add(splat(scale.b).mul(de))
+                    .add(splat(scale.c).mul(de).mul(de));
+                let ss = splat(scale.viewport_height)
+                    .mul(si())
+                    .mul(splat(1.0).div(terms).sqrt());
+                let (lo, hi) = points.size_bounds();
+                ss.max(splat(0.0)).max(splat(lo)).min(splat(hi))
             }
-        }));
+            (None, _) => {
+                let si = si().lanes();
+                F4::from_lanes(std::array::from_fn(|i| points.size(si[i], de[i])))
+            }
+        };
         let half = size.div(F4::splat(2.0));
         let (left, top) = (x.sub(half), y.sub(half));
         let (right, bottom) = (x.add(half), y.add(half));
