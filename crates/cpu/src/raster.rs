@@ -3,10 +3,12 @@
 //!
 //! Parallel plan: points run through the per-point stage once, in parallel chunks, and each
 //! chunk appends a compact copy of each point to the bands of [`BAND_ROWS`] target rows it
-//! touches (vertex order kept within a band); bands are then filled in parallel, each reading its points in one
-//! sequential sweep and applying them in vertex order to pixels no other band touches. Every
-//! pixel therefore sees the same operations in the same order whatever the thread count, and
-//! the output is bit-identical to sequential drawing.
+//! touches (vertex order kept within a band); bands are then filled in parallel, each reading
+//! its points in one sequential sweep and applying them in vertex order to pixels no other band
+//! touches. Every pixel therefore sees the same operations in the same order whatever the
+//! thread count, and the output is bit-identical to sequential drawing. A clear the backend
+//! deferred comes with the draw: each band writes it just before its points, while the band is
+//! in cache.
 //!
 //! States are resolved once per draw. The pixel loop is monomorphised on the blend family
 //! (replace, additive, source-alpha, general) and the shading kind (the diffuse colour, one
