@@ -228,19 +228,12 @@ impl Twin {
         })
     }
 
-    /// Vertex `index` as a square, `None` when it is dropped or covers no pixel.
+    /// The position of vertex `v` as x, y, z, w lanes (w = 1 for XYZ).
     #[inline(always)]
-    pub(crate) fn square(
-        &self,
-        points: &PointSetup,
-        vertices: &[u8],
-        index: u32,
-    ) -> Option<Square> {
-        let base = index as usize * self.stride;
-        let v = &vertices[base..base + self.stride];
-        let position = if self.load16 {
+    fn position(&self, v: &[u8]) -> F4 {
+        if self.load16 {
             let p = F4::load(v);
-            // XYZ: w = 1 (the fourth float is another field).
+            // XYZ: the fourth float is another field.
             if self.position_len == 4 {
                 p
             } else {
@@ -253,7 +246,20 @@ impl Twin {
                 1.0
             };
             F4::from_lanes([read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w])
-        };
+        }
+    }
+
+    /// Vertex `index` as a square, `None` when it is dropped or covers no pixel.
+    #[inline(always)]
+    pub(crate) fn square(
+        &self,
+        points: &PointSetup,
+        vertices: &[u8],
+        index: u32,
+    ) -> Option<Square> {
+        let base = index as usize * self.stride;
+        let v = &vertices[base..base + self.stride];
+        let position = self.position(v);
         // SPEC 3.1: finite coordinates.
         if !position.is_finite() {
             return None;
@@ -339,25 +345,7 @@ impl Twin {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + 4 * self.stride];
         let vertex = |i: usize| &v[i * self.stride..(i + 1) * self.stride];
-        let positions = std::array::from_fn(|i| {
-            let v = vertex(i);
-            if self.load16 {
-                let p = F4::load(v);
-                if self.position_len == 4 {
-                    p
-                } else {
-                    p.with_alpha_of(F4::splat(1.0))
-                }
-            } else {
-                let w = if self.position_len == 4 {
-                    read_f32(v, 12)
-                } else {
-                    1.0
-                };
-                F4::from_lanes([read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w])
-            }
-        });
-        let position = F4::transpose(positions);
+        let position = F4::transpose(std::array::from_fn(|i| self.position(vertex(i))));
         let [px, py, pz, pw] = position;
         // SPEC 3.1: finite coordinates.
         let mut keep = px.finite_mask() & py.finite_mask() & pz.finite_mask() & pw.finite_mask();
