@@ -50,7 +50,7 @@ pub fn device(desc: DeviceDesc) -> Result<CpuDevice, DeviceError> {
 pub struct CpuBackend {
     target: RenderTarget,
     /// The colour and depth of a clear not yet written.
-    pending_clear: Option<(u32, f32)>,
+    pending_clear: Option<raster::Clear>,
     /// The rasterizer's bins, kept from draw to draw.
     bins: raster::Bins,
 }
@@ -83,6 +83,7 @@ impl Backend for CpuBackend {
         depth: f32,
     ) -> Result<(), DeviceError> {
         self.target = RenderTarget::new(width, height, color, depth);
+        self.pending_clear = None; // it was for the old target
         Ok(())
     }
 

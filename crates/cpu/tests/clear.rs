@@ -6,7 +6,7 @@ mod common;
 
 use common::Rng;
 
-use pointillist_core::device::{DeviceDesc, RenderTarget};
+use pointillist_core::device::{Backend, DeviceDesc, RenderTarget};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Blend, Cmp, RenderState};
 
@@ -92,4 +92,18 @@ fn a_clear_without_a_draw_is_read_back() {
     assert!(t.color.iter().all(|&c| c == CLEAR_COLOR));
     assert!(t.depth.iter().all(|&z| z == CLEAR_DEPTH));
     assert_eq!(d.backend_mut().target().pixel(5, 5), CLEAR_COLOR);
+}
+
+#[test]
+fn a_new_target_drops_a_pending_clear() {
+    let mut d = pointillist_cpu::device(DeviceDesc::new(64, 48)).expect("device");
+    d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
+    let backend = d.backend_mut();
+    backend
+        .create_target(32, 16, 0xFF00_00FF, 0.5)
+        .expect("new target");
+    let t = backend.read_target().expect("read back");
+    assert_eq!((t.width, t.height), (32, 16));
+    assert!(t.color.iter().all(|&c| c == 0xFF00_00FF));
+    assert!(t.depth.iter().all(|&z| z == 0.5));
 }
