@@ -288,7 +288,7 @@ impl TexelRows {
         self.tags = [-1; 2];
     }
 
-    /// Rows `l` and `l + 1` of the `width`-texel rows `texels`, filtered at `cols`; both
+    /// Rows `l` and `l + 1` of the `width`-texel rows `texels`, filtered at `groups`; both
     /// rows are inside the level, and so are `k` and `k + 1` of every column with `k >= 0`.
     fn pair(&mut self, texels: &[u32], width: usize, groups: &[Group], l: i64) -> [&[P4]; 2] {
         if self.tags[0] != l {
@@ -671,16 +671,22 @@ impl Binned for Sprite {
         let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) else {
             return;
         };
-        let Some(sampler) = &t.fixed else {
-            return points.iter().for_each(|p| p.fill(ctx, b, band, s));
-        };
-        if sampler.is_linear() {
-            for p in points {
-                fill_modulate_at::<B, true>(ctx, b, &p.view(), band, s, alpha, sampler);
+        // The match once for the band, each arm its own loop.
+        match &t.fixed {
+            Some(f) if f.is_linear() => {
+                for p in points {
+                    fill_modulate_at::<B, true>(ctx, b, &p.view(), band, s, alpha, f);
+                }
             }
-        } else {
-            for p in points {
-                fill_modulate_at::<B, false>(ctx, b, &p.view(), band, s, alpha, sampler);
+            Some(f) => {
+                for p in points {
+                    fill_modulate_at::<B, false>(ctx, b, &p.view(), band, s, alpha, f);
+                }
+            }
+            None => {
+                for p in points {
+                    fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
+                }
             }
         }
     }
@@ -1236,8 +1242,8 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                 four.len() == 4 && four.iter().all(|c| c.k >= 0)
             };
             if spans && direct && n % 4 == 0 && direct4 {
-                // Four pixels at once, the arithmetic of `pixel_texel` and `Modulate` lane by
-                // lane.
+                // Four pixels at once, the arithmetic of `TexelRow::texel` and `Modulate` lane
+                // by lane.
                 let texel = if LINEAR {
                     P4::lerp_by(top[n / 4], bottom[n / 4], fy)
                 } else {
@@ -1260,18 +1266,11 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                 }
                 for i in 0..4 {
                     // Alpha test, then depth test and write (SPEC 5.3, 5.4), as write_pixel.
-                    if !alpha_test_passes(ctx.pixel.alpha_test, src[i]) {
-                        continue;
+                    if alpha_test_passes(ctx.pixel.alpha_test, src[i])
+                        && depth_test(ctx, band, at + i, p.z)
+                    {
+                        band.color[at + i] = write_masked(mask, new[i], old[i]);
                     }
-                    if let Some(depth) = ctx.pixel.depth {
-                        if !compare(depth.func, p.z, band.depth[at + i]) {
-                            continue;
-                        }
-                        if depth.write {
-                            band.depth[at + i] = p.z;
-                        }
-                    }
-                    band.color[at + i] = write_masked(mask, new[i], old[i]);
                 }
                 n += 4;
                 continue;
@@ -1299,16 +1298,27 @@ fn write_pixel<B: Blender>(
     z: f32,
     color: u32,
 ) {
-    if let Some(depth) = ctx.pixel.depth {
-        if !compare(depth.func, z, band.depth[at]) {
-            return;
-        }
-        if depth.write {
-            band.depth[at] = z;
-        }
+    if !depth_test(ctx, band, at, z) {
+        return;
     }
     let old = band.color[at];
     band.color[at] = write_masked(ctx.pixel.write_mask, b.blend(color, old), old);
+}
+
+/// SPEC 5.4: whether a pixel at depth `z` passes the depth test at `at` (always, without one),
+/// writing `z` there when it passes and ZWRITEENABLE is on.
+#[inline(always)]
+fn depth_test(ctx: &DrawContext, band: &mut Band, at: usize, z: f32) -> bool {
+    let Some(depth) = ctx.pixel.depth else {
+        return true;
+    };
+    if !compare(depth.func, z, band.depth[at]) {
+        return false;
+    }
+    if depth.write {
+        band.depth[at] = z;
+    }
+    true
 }
 
 #[cfg(test)]

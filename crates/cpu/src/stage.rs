@@ -1,8 +1,8 @@
 //! The per-point stage for the fills that need only a point's square: core's
 //! [`PointSetup::process`] (SPEC 2, 3.1, 3.2, 4.1), with a fast twin for vertices without
-//! per-pixel clip planes that resolves everything per draw, keeps nothing the fills do not
-//! read, runs [`PointSetup::project`]'s two transforms four lanes at a time, and takes
-//! transformed vertices four at a time (one vertex a lane).
+//! per-pixel clip planes that resolves everything per draw and keeps nothing the fills do not
+//! read. Transformed vertices go four at a time, one vertex a lane, through a four-lane twin of
+//! [`PointSetup::project`] and [`PointSetup::size`].
 //!
 //! The twin is tested against `process` on random and hostile vertices: it drops the same
 //! points and gives the same squares, bit for bit.
@@ -73,9 +73,11 @@ impl SquareStage {
 }
 
 /// [`PointSetup::process`] for vertices without user clip planes (SPEC 2, 3.1, 3.2, 4.1): a
-/// point is its screen position, its size and its diffuse colour. The rules are core's
-/// (`keeps_pretransformed`, `project`, `size`); what is resolved here per draw is where the
-/// vertex's fields are, whether every point has one size, and the viewport as float bounds.
+/// point is its screen position, its size and its diffuse colour. One vertex at a time the
+/// rules are core's (`keeps_pretransformed`, `project`, `size`); four transformed vertices at
+/// a time they are [`Projector::project4`] and the scaled size in four lanes. What is resolved
+/// here per draw is where the vertex's fields are, whether every point has one size, and the
+/// viewport as float bounds.
 pub(crate) struct Twin {
     stride: usize,
     pretransformed: bool,
@@ -97,16 +99,12 @@ pub(crate) struct Twin {
     projector: Projector,
 }
 
-/// [`PointSetup::project`] (SPEC 1, 2.2, 3.1) with each transform's four output lanes at
-/// once: every lane the same products and sums, in the same order, so the same bits.
+/// [`PointSetup::project`] (SPEC 1, 2.2, 3.1) of four vertices, one a lane: every lane the same
+/// products, sums and divisions, in the same order, so the same bits.
 struct Projector {
-    /// Rows of WORLD * VIEW and of PROJECTION.
-    world_view: [F4; 4],
-    projection: [F4; 4],
-    /// Every element of WORLD * VIEW and of PROJECTION in all four lanes, for
-    /// [`Projector::project4`].
-    world_view_splat: [[F4; 4]; 4],
-    projection_splat: [[F4; 4]; 4],
+    /// Every element of WORLD * VIEW and of PROJECTION in all four lanes.
+    world_view: [[F4; 4]; 4],
+    projection: [[F4; 4]; 4],
     clipping: bool,
     /// Viewport x, y, width, height as floats, min z, and max z - min z.
     x: f32,
@@ -119,14 +117,11 @@ struct Projector {
 
 impl Projector {
     fn new(points: &PointSetup) -> Projector {
-        let rows = |m: &pointillist_core::math::Mat4| m.0.map(F4::from_lanes);
         let splat = |m: &pointillist_core::math::Mat4| m.0.map(|row| row.map(F4::splat));
         let vp = points.viewport();
         Projector {
-            world_view: rows(points.world_view()),
-            projection: rows(points.projection()),
-            world_view_splat: splat(points.world_view()),
-            projection_splat: splat(points.projection()),
+            world_view: splat(points.world_view()),
+            projection: splat(points.projection()),
             clipping: points.clipping(),
             x: vp.x as f32,
             y: vp.y as f32,
@@ -137,37 +132,8 @@ impl Projector {
         }
     }
 
-    /// `Mat4::transform`: `v[0] * m[0][c] + v[1] * m[1][c] + v[2] * m[2][c] + v[3] * m[3][c]`.
-    #[inline(always)]
-    fn transform(m: &[F4; 4], v: [f32; 4]) -> F4 {
-        let term = |k: usize| F4::splat(v[k]).mul(m[k]);
-        term(0).add(term(1)).add(term(2)).add(term(3))
-    }
-
-    /// The screen position and eye distance of a finite position, `None` when it is dropped.
-    #[inline(always)]
-    fn project(&self, position: [f32; 4]) -> Option<([f32; 3], f32)> {
-        let eye = Self::transform(&self.world_view, position);
-        let clip = Self::transform(&self.projection, eye.lanes());
-        let c = clip.lanes();
-        if !clip.is_finite() || c[3] <= 0.0 {
-            return None;
-        }
-        if self.clipping && !(0.0 <= c[2] && c[2] <= c[3]) {
-            return None;
-        }
-        let e = eye.lanes();
-        let eye_distance = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
-        let q = clip.div(F4::splat(c[3])).lanes();
-        let screen = [
-            self.x + (1.0 + q[0]) * self.width / 2.0,
-            self.y + (1.0 - q[1]) * self.height / 2.0,
-            self.min_z + q[2] * self.depth,
-        ];
-        Some((screen, eye_distance))
-    }
-
-    /// [`Projector::transform`] of four vectors given as their x, y, z and w lanes.
+    /// `Mat4::transform` (`v[0] * m[0][c] + v[1] * m[1][c] + v[2] * m[2][c] + v[3] * m[3][c]`)
+    /// of four vectors given as their x, y, z and w lanes.
     #[inline(always)]
     fn transform4(m: &[[F4; 4]; 4], [x, y, z, w]: [F4; 4]) -> [F4; 4] {
         std::array::from_fn(|c| {
@@ -178,12 +144,12 @@ impl Projector {
         })
     }
 
-    /// [`Projector::project`] of four finite positions given as their x, y, z and w lanes: the
+    /// [`PointSetup::project`] of four finite positions given as their x, y, z and w lanes: the
     /// screen x, y, z and eye distance lanes, and bit `i` set where vertex `i` is kept.
     #[inline(always)]
     fn project4(&self, position: [F4; 4]) -> ([F4; 4], u32) {
-        let eye = Self::transform4(&self.world_view_splat, position);
-        let [c0, c1, c2, c3] = Self::transform4(&self.projection_splat, eye);
+        let eye = Self::transform4(&self.world_view, position);
+        let [c0, c1, c2, c3] = Self::transform4(&self.projection, eye);
         let zero = F4::splat(0.0);
         let mut keep = c0.finite_mask() & c1.finite_mask() & c2.finite_mask() & c3.finite_mask();
         keep &= zero.lt_mask(c3);
@@ -276,12 +242,11 @@ impl Twin {
             }
             (x, y, z, size(0.0))
         } else {
-            let ([x, y, z], eye_distance) = self.projector.project(position)?;
-            let size = size(eye_distance);
-            if !F4::from_lanes([x, y, z, 0.0]).is_finite() {
+            let p = points.project(position)?;
+            if !F4::from_lanes([p.x, p.y, p.z, 0.0]).is_finite() {
                 return None;
             }
-            (x, y, z, size)
+            (p.x, p.y, p.z, size(p.eye_distance))
         };
         let half = size / 2.0;
         let (left, top) = (x - half, y - half);
@@ -333,34 +298,19 @@ impl Twin {
         }
     }
 
-    /// Vertices `index..index + 4` as [`Twin::square`] gives them, four lanes at a time: every
-    /// lane the same operations (the drops ANDed into one mask), so the same squares.
+    /// Transformed vertices `index..index + 4` as [`Twin::square`] gives them, four lanes at a
+    /// time: every lane the same operations (the drops ANDed into one mask), so the same
+    /// squares.
     #[inline(always)]
-    pub(crate) fn squares4(
-        &self,
-        points: &PointSetup,
-        vertices: &[u8],
-        index: u32,
-    ) -> [Option<Square>; 4] {
+    fn squares4(&self, points: &PointSetup, vertices: &[u8], index: u32) -> [Option<Square>; 4] {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + 4 * self.stride];
         let vertex = |i: usize| &v[i * self.stride..(i + 1) * self.stride];
         let position = F4::transpose(std::array::from_fn(|i| self.position(vertex(i))));
-        let [px, py, pz, pw] = position;
-        // SPEC 3.1: finite coordinates.
-        let mut keep = px.finite_mask() & py.finite_mask() & pz.finite_mask() & pw.finite_mask();
-        let ([x, y, z], de) = if self.pretransformed {
-            let vp = points.viewport();
-            keep &= F4::splat(0.0).lt_mask(pw);
-            if points.clipping() {
-                keep &= F4::splat(vp.min_z).le_mask(pz) & pz.le_mask(F4::splat(vp.max_z));
-            }
-            ([px, py, pz], [0.0; 4])
-        } else {
-            let ([x, y, z, de], kept) = self.projector.project4(position);
-            keep &= kept & x.finite_mask() & y.finite_mask() & z.finite_mask();
-            ([x, y, z], de.lanes())
-        };
+        // SPEC 3.1: finite coordinates, then the projection's drops and a finite screen position.
+        let mut keep = position.iter().fold(0xF, |k, c| k & c.finite_mask());
+        let ([x, y, z, de], kept) = self.projector.project4(position);
+        keep &= kept & x.finite_mask() & y.finite_mask() & z.finite_mask();
         if keep == 0 {
             return [None; 4];
         }
@@ -375,9 +325,8 @@ impl Twin {
             // SPEC 2.2 and 2.3, `scaled_size` and `clamp_to_bounds` lane by lane; where the
             // lanes' max and min differ from f32's (equal operands), only the sign of a zero
             // size differs, and a zero size covers no pixel.
-            (None, Some(scale)) if !self.pretransformed => {
+            (None, Some(scale)) => {
                 let splat = F4::splat;
-                let de = F4::from_lanes(de);
                 let terms = splat(scale.a)
                     .add(splat(scale.b).mul(de))
                     .add(splat(scale.c).mul(de).mul(de));
@@ -387,8 +336,8 @@ impl Twin {
                 let (lo, hi) = points.size_bounds();
                 ss.max(splat(0.0)).max(splat(lo)).min(splat(hi))
             }
-            (None, _) => {
-                let si = si().lanes();
+            (None, None) => {
+                let (si, de) = (si().lanes(), de.lanes());
                 F4::from_lanes(std::array::from_fn(|i| points.size(si[i], de[i])))
             }
         };

@@ -66,20 +66,7 @@ fn a_deferred_clear_gives_the_pixels_of_an_immediate_one() {
             cleared > 0 && kept > 0 && kept < deferred.depth.len(),
             "{points} points: {cleared} pixels keep the clear colour, {kept} its depth"
         );
-        let differing = deferred
-            .color
-            .iter()
-            .zip(&immediate.color)
-            .filter(|(a, b)| a != b)
-            .count();
-        assert_eq!(differing, 0, "{points} points: {differing} pixels differ");
-        assert!(
-            deferred
-                .depth
-                .iter()
-                .zip(&immediate.depth)
-                .all(|(a, b)| a.to_bits() == b.to_bits())
-        );
+        common::assert_same_target(&deferred, &immediate, &format!("{points} points"));
     }
 }
 

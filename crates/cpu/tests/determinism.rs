@@ -95,19 +95,7 @@ fn same_bytes_with_1_2_and_8_threads() {
     );
     for threads in [2, 8] {
         let other = render(threads);
-        let differing = one
-            .color
-            .iter()
-            .zip(&other.color)
-            .filter(|(a, b)| a != b)
-            .count();
-        assert_eq!(differing, 0, "{threads} threads: {differing} pixels differ");
-        assert!(
-            one.depth
-                .iter()
-                .zip(&other.depth)
-                .all(|(a, b)| a.to_bits() == b.to_bits())
-        );
+        common::assert_same_target(&one, &other, &format!("{threads} threads"));
     }
 }
 

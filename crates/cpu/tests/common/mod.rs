@@ -89,6 +89,20 @@ pub fn target(d: &mut TestDevice) -> RenderTarget {
     d.read_target().expect("read_target")
 }
 
+/// Asserts that `a` and `b` hold the same colours and the same depth bits; `what` names the
+/// comparison in the failure message.
+pub fn assert_same_target(a: &RenderTarget, b: &RenderTarget, what: &str) {
+    let differing = a.color.iter().zip(&b.color).filter(|(x, y)| x != y).count();
+    assert_eq!(differing, 0, "{what}: {differing} pixels differ");
+    assert!(
+        a.depth
+            .iter()
+            .zip(&b.depth)
+            .all(|(x, y)| x.to_bits() == y.to_bits()),
+        "{what}: depths differ"
+    );
+}
+
 /// The pixels (x, y) whose colour is not `clear`.
 pub fn drawn(t: &RenderTarget, clear: u32) -> BTreeSet<(u32, u32)> {
     let mut out = BTreeSet::new();
