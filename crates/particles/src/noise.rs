@@ -59,8 +59,16 @@ impl NoiseField {
     /// The field's vector at `p` (lattice units), each component in `[-1, 1]`.
     #[inline]
     pub fn sample(&self, p: [f32; 3]) -> [f32; 3] {
+        let v = self.sample4(p);
+        [v[0], v[1], v[2]]
+    }
+
+    /// [`NoiseField::sample`] with a fourth lane that is 0: callers that keep all four lanes
+    /// get the interpolation as four-lane arithmetic.
+    #[inline]
+    pub(crate) fn sample4(&self, p: [f32; 3]) -> [f32; 4] {
         if !(p[0].is_finite() && p[1].is_finite() && p[2].is_finite()) {
-            return [0.0; 3];
+            return [0.0; 4];
         }
         let (x0, x1, wx) = cell(p[0]);
         let (y0, y1, wy) = cell(p[1]);
@@ -74,8 +82,7 @@ impl NoiseField {
         let b = Keyable::lerp(self.at(x0, y1, z0), self.at(x1, y1, z0), wx);
         let c = Keyable::lerp(self.at(x0, y0, z1), self.at(x1, y0, z1), wx);
         let d = Keyable::lerp(self.at(x0, y1, z1), self.at(x1, y1, z1), wx);
-        let v = Keyable::lerp(Keyable::lerp(a, b, wy), Keyable::lerp(c, d, wy), wz);
-        [v[0], v[1], v[2]]
+        Keyable::lerp(Keyable::lerp(a, b, wy), Keyable::lerp(c, d, wy), wz)
     }
 }
 

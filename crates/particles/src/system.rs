@@ -38,6 +38,8 @@ use crate::rng::{Rng, mix64};
 
 /// Particles per storage block: the unit of parallel work.
 pub const BLOCK: usize = 1024;
+/// Particles whose accelerations an update gathers before integrating them.
+const CHUNK: usize = 64;
 /// Components stored per particle.
 const COLUMNS: usize = 11;
 /// `f32`s per block.
@@ -174,44 +176,51 @@ fn update_block(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
     let h = p.h;
     let [gx, gy, gz] = p.gravity;
     let [wx, wy, wz] = p.wind;
+    let g = [gx, gy, gz, 0.0];
 
-    let mut accel = [[0.0f32; BLOCK]; 3];
-    let [ax, ay, az] = &mut accel;
-    let (ax, ay, az) = (&mut ax[..n], &mut ay[..n], &mut az[..n]);
-    match p.turbulence {
-        Some((field, strength, inv_scale, offset)) => {
-            let (px, py, pz) = (&c.px[..n], &c.py[..n], &c.pz[..n]);
-            for i in 0..n {
-                let q = [
-                    px[i] * inv_scale + offset[0],
-                    py[i] * inv_scale + offset[1],
-                    pz[i] * inv_scale + offset[2],
-                ];
-                let t = field.sample(q);
-                ax[i] = gx + t[0] * strength;
-                ay[i] = gy + t[1] * strength;
-                az[i] = gz + t[2] * strength;
+    let mut accel = [[0.0f32; 4]; CHUNK];
+    for first in (0..n).step_by(CHUNK) {
+        let range = first..n.min(first + CHUNK);
+        let accel = &mut accel[..range.len()];
+        match p.turbulence {
+            Some((field, strength, inv_scale, offset)) => {
+                let (px, py, pz) = (
+                    &c.px[range.clone()],
+                    &c.py[range.clone()],
+                    &c.pz[range.clone()],
+                );
+                for (i, a) in accel.iter_mut().enumerate() {
+                    let q = [
+                        px[i] * inv_scale + offset[0],
+                        py[i] * inv_scale + offset[1],
+                        pz[i] * inv_scale + offset[2],
+                    ];
+                    let t = field.sample4(q);
+                    *a = std::array::from_fn(|k| g[k] + t[k] * strength);
+                }
             }
+            None => accel.fill(g),
         }
-        None => {
-            ax.fill(gx);
-            ay.fill(gy);
-            az.fill(gz);
-        }
-    }
 
-    {
-        let (px, py, pz) = (&mut c.px[..n], &mut c.py[..n], &mut c.pz[..n]);
-        let (vx, vy, vz) = (&mut c.vx[..n], &mut c.vy[..n], &mut c.vz[..n]);
-        let (age, drag) = (&mut c.age[..n], &c.drag[..n]);
-        for i in 0..n {
+        let (px, py, pz) = (
+            &mut c.px[range.clone()],
+            &mut c.py[range.clone()],
+            &mut c.pz[range.clone()],
+        );
+        let (vx, vy, vz) = (
+            &mut c.vx[range.clone()],
+            &mut c.vy[range.clone()],
+            &mut c.vz[range.clone()],
+        );
+        let (age, drag) = (&mut c.age[range.clone()], &c.drag[range.clone()]);
+        for (i, a) in accel.iter().enumerate() {
             age[i] += h;
             let k = drag[i];
             // Backward Euler for the drag term: stable for any k * h.
             let relax = 1.0 / (1.0 + k * h);
-            let nvx = (vx[i] + h * (ax[i] + k * wx)) * relax;
-            let nvy = (vy[i] + h * (ay[i] + k * wy)) * relax;
-            let nvz = (vz[i] + h * (az[i] + k * wz)) * relax;
+            let nvx = (vx[i] + h * (a[0] + k * wx)) * relax;
+            let nvy = (vy[i] + h * (a[1] + k * wy)) * relax;
+            let nvz = (vz[i] + h * (a[2] + k * wz)) * relax;
             vx[i] = nvx;
             vy[i] = nvy;
             vz[i] = nvz;
