@@ -168,9 +168,10 @@ struct UpdateParams<'a> {
 
 /// Ages, kills, moves and packs the `n` live particles of one block; returns the survivors.
 ///
-/// Three passes, so that the arithmetic vectorises: accelerations (gravity plus the
-/// turbulence field, gathered per particle), then integration of every particle in place, then
-/// a stable compaction of the survivors that moves whole runs of them with `copy_within`.
+/// Passes, so that the arithmetic vectorises: [`CHUNK`] particles at a time, their
+/// accelerations (gravity plus the turbulence field, gathered per particle as four lanes), then
+/// their integration in place; then a stable compaction of the survivors that moves whole runs
+/// of them with `copy_within`.
 fn update_block(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
     let mut c = Cols::new(block);
     let h = p.h;
