@@ -204,6 +204,42 @@ struct StageTexture<'a> {
     /// The sampler of every level of detail, when it does not depend on it
     /// ([`SamplerDesc::needs_lod`]).
     fixed: Option<LodSampler<'a>>,
+    /// The texels of `fixed`'s level unpacked ([`F4::from_argb`]), when that level has at most
+    /// [`UNPACKED_MAX_TEXELS`]: the sprite fills then read them without unpacking each.
+    unpacked: Vec<F4>,
+}
+
+/// The largest level whose texels a draw unpacks once (1 MiB of [`F4`]).
+const UNPACKED_MAX_TEXELS: usize = 1 << 16;
+
+/// A texel as the sprite fills read it: a D3DCOLOR, or one unpacked already.
+trait Texel: Copy {
+    /// [`F4::from_argb`] of the texel.
+    fn unpack(self) -> F4;
+    /// [`P4::from_argb`] of four texels.
+    fn planes(px: [Self; 4]) -> P4;
+}
+
+impl Texel for u32 {
+    #[inline(always)]
+    fn unpack(self) -> F4 {
+        F4::from_argb(self)
+    }
+    #[inline(always)]
+    fn planes(px: [u32; 4]) -> P4 {
+        P4::from_argb(px)
+    }
+}
+
+impl Texel for F4 {
+    #[inline(always)]
+    fn unpack(self) -> F4 {
+        self
+    }
+    #[inline(always)]
+    fn planes(px: [F4; 4]) -> P4 {
+        P4::from_planes(F4::transpose(px))
+    }
 }
 
 impl<'a> StageTexture<'a> {
@@ -290,7 +326,13 @@ impl TexelRows {
 
     /// Rows `l` and `l + 1` of the `width`-texel rows `texels`, filtered at `groups`; both
     /// rows are inside the level, and so are `k` and `k + 1` of every column with `k >= 0`.
-    fn pair(&mut self, texels: &[u32], width: usize, groups: &[Group], l: i64) -> [&[P4]; 2] {
+    fn pair<T: Texel>(
+        &mut self,
+        texels: &[T],
+        width: usize,
+        groups: &[Group],
+        l: i64,
+    ) -> [&[P4]; 2] {
         if self.tags[0] != l {
             if self.tags[1] == l {
                 self.rows.swap(0, 1);
@@ -313,11 +355,11 @@ impl TexelRows {
 }
 
 /// One texel row's horizontal lerps at `groups` (meaningless where the core sampler decides).
-fn filter_row(out: &mut Vec<P4>, row: &[u32], groups: &[Group]) {
+fn filter_row<T: Texel>(out: &mut Vec<P4>, row: &[T], groups: &[Group]) {
     out.clear();
     out.extend(groups.iter().map(|g| {
-        let left = P4::from_argb(g.left.map(|k| row[k as usize]));
-        let right = P4::from_argb(g.right.map(|k| row[k as usize]));
+        let left = T::planes(g.left.map(|k| row[k as usize]));
+        let right = T::planes(g.right.map(|k| row[k as usize]));
         P4::lerp(left, right, g.fx)
     }));
 }
@@ -396,11 +438,19 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         }
         state.textures[i].as_deref().map(|texture| {
             let sampler = SamplerDesc::from_states(&state.sampler_states[i]);
+            let fixed = (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0));
+            let unpacked = match fixed {
+                Some(f) if f.level().texels.len() <= UNPACKED_MAX_TEXELS => {
+                    f.level().texels.iter().map(|&c| F4::from_argb(c)).collect()
+                }
+                _ => Vec::new(),
+            };
             StageTexture {
                 texture,
                 sampler,
                 set: stage.texcoord_set,
-                fixed: (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0)),
+                fixed,
+                unpacked,
             }
         })
     });
@@ -672,22 +722,26 @@ impl Binned for Sprite {
             return;
         };
         // The match once for the band, each arm its own loop.
-        match &t.fixed {
-            Some(f) if f.is_linear() => {
-                for p in points {
-                    fill_modulate_at::<B, true>(ctx, b, &p.view(), band, s, alpha, f);
-                }
+        let Some(f) = &t.fixed else {
+            for p in points {
+                fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
             }
-            Some(f) => {
+            return;
+        };
+        let (packed, unpacked) = (&f.level().texels[..], &t.unpacked[..]);
+        macro_rules! each {
+            ($linear:literal, $texels:expr) => {
                 for p in points {
-                    fill_modulate_at::<B, false>(ctx, b, &p.view(), band, s, alpha, f);
+                    let view = p.view();
+                    fill_modulate_at::<B, $linear, _>(ctx, b, &view, band, s, alpha, f, $texels);
                 }
-            }
-            None => {
-                for p in points {
-                    fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
-                }
-            }
+            };
+        }
+        match (f.is_linear(), unpacked.is_empty()) {
+            (true, false) => each!(true, unpacked),
+            (false, false) => each!(false, unpacked),
+            (true, true) => each!(true, packed),
+            (false, true) => each!(false, packed),
         }
     }
 }
@@ -1022,7 +1076,7 @@ impl Column {
 
 /// One pixel row of a sprite on a level (SPEC 4.3, 5.2).
 #[derive(Copy, Clone)]
-struct TexelRow<'l> {
+struct TexelRow<'l, T> {
     /// Sprite v.
     v: f32,
     /// The first texel row read.
@@ -1031,17 +1085,24 @@ struct TexelRow<'l> {
     fy: f32,
     /// The level's texels from row `l` on, or nothing when the rows read are not inside the
     /// level (or the sampler blends two levels) and the sampler decides.
-    texels: &'l [u32],
+    texels: &'l [T],
 }
 
-impl<'l> TexelRow<'l> {
-    /// Pixel row `j` of sprite `p` on `level`; `single`: the sampler reads that level alone.
+impl<'l, T: Texel> TexelRow<'l, T> {
+    /// Pixel row `j` of sprite `p` on `level`, whose texels `texels` holds; `single`: the
+    /// sampler reads that level alone.
     #[inline(always)]
-    fn new<const LINEAR: bool>(j: i32, p: &SpriteView, level: &'l Level, single: bool) -> Self {
+    fn new<const LINEAR: bool>(
+        j: i32,
+        p: &SpriteView,
+        level: &Level,
+        texels: &'l [T],
+        single: bool,
+    ) -> Self {
         let v = sprite_coord(j, p.top, p.size);
         let (l, fy) = texel_index::<LINEAR>(v, level.height);
-        let texels: &[u32] = if single && texel_inside::<LINEAR>(l, level.height) {
-            &level.texels[l as usize * level.width as usize..]
+        let texels: &[T] = if single && texel_inside::<LINEAR>(l, level.height) {
+            &texels[l as usize * level.width as usize..]
         } else {
             &[]
         };
@@ -1058,13 +1119,13 @@ impl<'l> TexelRow<'l> {
         }
         let at = c.k as usize;
         if !LINEAR {
-            return F4::from_argb(texels[at]);
+            return texels[at].unpack();
         }
         let fx = F4::splat(c.fx);
-        let top = F4::lerp(F4::from_argb(texels[at]), F4::from_argb(texels[at + 1]), fx);
+        let top = F4::lerp(texels[at].unpack(), texels[at + 1].unpack(), fx);
         let bottom = F4::lerp(
-            F4::from_argb(texels[at + width]),
-            F4::from_argb(texels[at + width + 1]),
+            texels[at + width].unpack(),
+            texels[at + width + 1].unpack(),
             fx,
         );
         F4::lerp(top, bottom, F4::splat(self.fy))
@@ -1121,17 +1182,19 @@ fn fill_modulate<B: Blender>(
     alpha: ModulateAlpha,
 ) {
     let sampler = t.sprite_sampler(p.size);
+    let texels = &sampler.level().texels[..];
     if sampler.is_linear() {
-        fill_modulate_at::<B, true>(ctx, b, p, band, s, alpha, &sampler);
+        fill_modulate_at::<B, true, u32>(ctx, b, p, band, s, alpha, &sampler, texels);
     } else {
-        fill_modulate_at::<B, false>(ctx, b, p, band, s, alpha, &sampler);
+        fill_modulate_at::<B, false, u32>(ctx, b, p, band, s, alpha, &sampler, texels);
     }
 }
 
 /// [`fill_modulate`] with the sampler at the sprite's level of detail, linear (`LINEAR`) or
-/// point.
+/// point, reading the texels of its level from `texels` (packed or unpacked).
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn fill_modulate_at<B: Blender, const LINEAR: bool>(
+fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
     p: &SpriteView,
@@ -1139,23 +1202,25 @@ fn fill_modulate_at<B: Blender, const LINEAR: bool>(
     s: &mut Scratch,
     alpha: ModulateAlpha,
     sampler: &LodSampler,
+    texels: &[T],
 ) {
     if p.rect.x1 - p.rect.x0 < 4 {
-        fill_narrow::<B, LINEAR>(ctx, b, p, band, alpha, sampler);
+        fill_narrow::<B, LINEAR, T>(ctx, b, p, band, alpha, sampler, texels);
     } else {
-        fill_modulate_with::<B, LINEAR>(ctx, b, p, band, s, alpha, sampler);
+        fill_modulate_with::<B, LINEAR, T>(ctx, b, p, band, s, alpha, sampler, texels);
     }
 }
 
 /// [`fill_modulate`] for a sprite under four columns wide, too narrow for spans: its columns
 /// on the stack, each pixel through [`TexelRow::texel`] (the commonest particle is a few pixels).
-fn fill_narrow<B: Blender, const LINEAR: bool>(
+fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
     p: &SpriteView,
     band: &mut Band,
     alpha: ModulateAlpha,
     sampler: &LodSampler,
+    texels: &[T],
 ) {
     let level = sampler.level();
     let single = sampler.mip_blend().is_none();
@@ -1172,7 +1237,7 @@ fn fill_narrow<B: Blender, const LINEAR: bool>(
     let modulate = Modulate::new(alpha, p.diffuse);
     let width = level.width as usize;
     for j in rows(p.rect, band) {
-        let texel_row = TexelRow::new::<LINEAR>(j, p, level, single);
+        let texel_row = TexelRow::new::<LINEAR>(j, p, level, texels, single);
         let row = (j - band.y0) as usize * band.width + x0 as usize;
         for (n, c) in cols[..len].iter().enumerate() {
             if !p.keeps(x0 + n as i32, j) {
@@ -1190,7 +1255,8 @@ fn fill_narrow<B: Blender, const LINEAR: bool>(
 /// column and per row, then four pixels at a time where the texels of all four are inside the
 /// level (one texel read each, or one vertical lerp of two filtered texel rows,
 /// [`TexelRows`]), and [`TexelRow::texel`] for the other pixels.
-fn fill_modulate_with<B: Blender, const LINEAR: bool>(
+#[allow(clippy::too_many_arguments)]
+fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
     p: &SpriteView,
@@ -1198,6 +1264,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
     s: &mut Scratch,
     alpha: ModulateAlpha,
     sampler: &LodSampler,
+    level_texels: &[T],
 ) {
     let (cols, groups, texel_rows) = (&mut s.cols, &mut s.groups, &mut s.texel_rows);
     texel_rows.reset();
@@ -1223,12 +1290,12 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
     let width = level.width as usize;
     let len = cols.len();
     for j in rows(p.rect, band) {
-        let texel_row = TexelRow::new::<LINEAR>(j, p, level, single);
+        let texel_row = TexelRow::new::<LINEAR>(j, p, level, level_texels, single);
         let TexelRow { fy, texels, .. } = texel_row;
         let direct = !texels.is_empty();
         // The horizontal lerps of texel rows l and l + 1 for the spans.
         let [top, bottom] = if direct && filtered_rows {
-            texel_rows.pair(&level.texels, width, groups, texel_row.l)
+            texel_rows.pair(level_texels, width, groups, texel_row.l)
         } else {
             [&[][..], &[][..]]
         };
@@ -1247,7 +1314,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool>(
                 let texel = if LINEAR {
                     P4::lerp_by(top[n / 4], bottom[n / 4], fy)
                 } else {
-                    P4::from_argb(std::array::from_fn(|i| texels[four[i].k as usize]))
+                    T::planes(std::array::from_fn(|i| texels[four[i].k as usize]))
                 };
                 let mut shaded = texel.mul(m4);
                 if modulate.diffuse_alpha {

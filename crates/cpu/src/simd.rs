@@ -180,6 +180,12 @@ impl P4 {
         P4(imp::unpack_planes(px))
     }
 
+    /// Four planes (blue, green, red, alpha), each a lane per pixel.
+    #[inline(always)]
+    pub(crate) fn from_planes(planes: [F4; 4]) -> P4 {
+        P4(planes.map(|p| p.0))
+    }
+
     /// One colour in all four pixels.
     #[inline(always)]
     pub(crate) fn splat(c: [f32; 4]) -> P4 {
