@@ -18,7 +18,9 @@
 //! Textured sprites with one MODULATE stage sample level texels directly wherever the texel
 //! indices of a pixel are inside the level (decided per column and per row, computed once per
 //! point with the core's [`point_texel`] and [`linear_texel`]) and do their colour arithmetic
-//! four channels at a time ([`F4`]); anywhere else they call the core sampler.
+//! four channels at a time ([`F4`]); anywhere else they call the core sampler. A draw whose
+//! sprites all read one small level unpacks its texels once ([`Texel`]), the same values
+//! [`F4::from_argb`] gives each pixel otherwise.
 
 use pointillist_core::color::{Rgba, pack, unpack};
 use pointillist_core::device::{DeviceState, MAX_STAGES, RenderTarget};
