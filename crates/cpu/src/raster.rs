@@ -206,8 +206,9 @@ struct StageTexture<'a> {
     /// The sampler of every level of detail, when it does not depend on it
     /// ([`SamplerDesc::needs_lod`]).
     fixed: Option<LodSampler<'a>>,
-    /// The texels of `fixed`'s level unpacked ([`F4::from_argb`]), when that level has at most
-    /// [`UNPACKED_MAX_TEXELS`]: the sprite fills then read them without unpacking each.
+    /// The texels of `fixed`'s level unpacked ([`F4::from_argb`]) for a draw of sprites big
+    /// enough to bin, when that level has at most [`UNPACKED_MAX_TEXELS`]: the sprite fills then
+    /// read them without unpacking each. Empty otherwise, so small draws never pay for it.
     unpacked: Vec<F4>,
 }
 
@@ -433,6 +434,9 @@ fn draw_context(
 /// Resolves the states of a draw (SPEC 5.1 to 5.6) once.
 fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawContext<'a> {
     let pixel = PixelSetup::new(state);
+    let shading = shading(&pixel);
+    let binned_sprites = matches!(shading, Shading::Modulate(_))
+        && vertices.len() / fvf.stride().max(1) >= PARALLEL_MIN_POINTS as usize;
     let textures = std::array::from_fn(|i| {
         let stage = &pixel.stages[i];
         if i >= pixel.stage_count || !stage.samples {
@@ -442,7 +446,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
             let sampler = SamplerDesc::from_states(&state.sampler_states[i]);
             let fixed = (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0));
             let unpacked = match fixed {
-                Some(f) if f.level().texels.len() <= UNPACKED_MAX_TEXELS => {
+                Some(f) if binned_sprites && f.level().texels.len() <= UNPACKED_MAX_TEXELS => {
                     f.level().texels.iter().map(|&c| F4::from_argb(c)).collect()
                 }
                 _ => Vec::new(),
@@ -462,7 +466,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         squares: SquareStage::new(&points),
         flat: pixel.is_flat(),
         points,
-        shading: shading(&pixel),
+        shading,
         pixel,
         textures,
         vertices,
