@@ -18,8 +18,8 @@
 //! Textured sprites with one MODULATE stage sample level texels directly wherever the texel
 //! indices of a pixel are inside the level (decided per column and per row, computed once per
 //! point with the core's [`point_texel`] and [`linear_texel`]) and do their colour arithmetic
-//! four channels at a time ([`F4`]); anywhere else they call the core sampler. A draw whose
-//! sprites all read one small level unpacks its texels once ([`Texel`]), the same values
+//! four channels at a time ([`F4`]); anywhere else they call the core sampler. A binned draw
+//! whose sprites all read one small level unpacks its texels once ([`Texel`]), the same values
 //! [`F4::from_argb`] gives each pixel otherwise.
 
 use pointillist_core::color::{Rgba, pack, unpack};
@@ -207,8 +207,8 @@ struct StageTexture<'a> {
     /// ([`SamplerDesc::needs_lod`]).
     fixed: Option<LodSampler<'a>>,
     /// The texels of `fixed`'s level unpacked ([`F4::from_argb`]) for a draw of sprites big
-    /// enough to bin, when that level has at most [`UNPACKED_MAX_TEXELS`]: the sprite fills then
-    /// read them without unpacking each. Empty otherwise, so small draws never pay for it.
+    /// enough to bin ([`StageTexture::unpack`]): the sprite fills then read them without
+    /// unpacking each. Empty otherwise, so small draws never pay for it.
     unpacked: Vec<F4>,
 }
 
@@ -234,6 +234,13 @@ impl Texel for u32 {
     }
 }
 
+/// The level a sprite's fills read: its sampler, and its texels packed or unpacked.
+#[derive(Copy, Clone)]
+struct LevelTexels<'a, T> {
+    sampler: &'a LodSampler<'a>,
+    texels: &'a [T],
+}
+
 impl Texel for F4 {
     #[inline(always)]
     fn unpack(self) -> F4 {
@@ -255,6 +262,16 @@ impl<'a> StageTexture<'a> {
         let lod = sprite_lod(self.texture.width(), self.texture.height(), size);
         self.texture.at_lod(&self.sampler, lod)
     }
+
+    /// Unpacks the texels of the `fixed` level when it has at most [`UNPACKED_MAX_TEXELS`].
+    fn unpack(&mut self) {
+        if let Some(f) = self.fixed {
+            let texels = &f.level().texels;
+            if texels.len() <= UNPACKED_MAX_TEXELS {
+                self.unpacked = texels.iter().map(|&c| F4::from_argb(c)).collect();
+            }
+        }
+    }
 }
 
 /// Everything resolved once per draw.
@@ -269,6 +286,18 @@ struct DrawContext<'a> {
     shading: Shading,
     textures: [Option<StageTexture<'a>>; MAX_STAGES],
     vertices: &'a [u8],
+}
+
+impl DrawContext<'_> {
+    /// The points of the draw.
+    fn point_count(&self) -> u32 {
+        (self.vertices.len() / self.points.layout().stride) as u32
+    }
+
+    /// Whether the draw bins its points and fills bands in parallel (else point after point).
+    fn binned(&self) -> bool {
+        self.point_count() >= self.bin_from
+    }
 }
 
 /// Per-point working memory, reused from point to point so no point allocates.
@@ -434,9 +463,6 @@ fn draw_context(
 /// Resolves the states of a draw (SPEC 5.1 to 5.6) once.
 fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawContext<'a> {
     let pixel = PixelSetup::new(state);
-    let shading = shading(&pixel);
-    let binned_sprites = matches!(shading, Shading::Modulate(_))
-        && vertices.len() / fvf.stride().max(1) >= PARALLEL_MIN_POINTS as usize;
     let textures = std::array::from_fn(|i| {
         let stage = &pixel.stages[i];
         if i >= pixel.stage_count || !stage.samples {
@@ -444,33 +470,33 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         }
         state.textures[i].as_deref().map(|texture| {
             let sampler = SamplerDesc::from_states(&state.sampler_states[i]);
-            let fixed = (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0));
-            let unpacked = match fixed {
-                Some(f) if binned_sprites && f.level().texels.len() <= UNPACKED_MAX_TEXELS => {
-                    f.level().texels.iter().map(|&c| F4::from_argb(c)).collect()
-                }
-                _ => Vec::new(),
-            };
             StageTexture {
                 texture,
                 sampler,
                 set: stage.texcoord_set,
-                fixed,
-                unpacked,
+                fixed: (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0)),
+                unpacked: Vec::new(),
             }
         })
     });
     let points = PointSetup::new(state, fvf);
-    DrawContext {
+    let mut ctx = DrawContext {
         bin_from: PARALLEL_MIN_POINTS,
         squares: SquareStage::new(&points),
         flat: pixel.is_flat(),
         points,
-        shading,
+        shading: shading(&pixel),
         pixel,
         textures,
         vertices,
+    };
+    // Binned sprites read stage 0's texels unpacked, when its level is small.
+    if ctx.binned() && matches!(ctx.shading, Shading::Modulate(_)) {
+        if let Some(t) = &mut ctx.textures[0] {
+            t.unpack();
+        }
     }
+    ctx
 }
 
 fn draw_with<B: Blender>(
@@ -503,9 +529,9 @@ fn draw_points<B: Blender, P: Binned>(
     bins: &mut Bins,
     clear: Option<Clear>,
 ) {
-    let count = (ctx.vertices.len() / ctx.points.layout().stride) as u32;
+    let count = ctx.point_count();
     let threads = rayon::current_num_threads();
-    if count >= ctx.bin_from {
+    if ctx.binned() {
         draw_binned::<B, P>(ctx, b, target, P::chunks(bins), clear, count, threads);
         return trim_bins(P::chunks(bins));
     }
@@ -739,7 +765,11 @@ impl Binned for Sprite {
             ($linear:literal, $texels:expr) => {
                 for p in points {
                     let view = p.view();
-                    fill_modulate_at::<B, $linear, _>(ctx, b, &view, band, s, alpha, f, $texels);
+                    let level = LevelTexels {
+                        sampler: f,
+                        texels: $texels,
+                    };
+                    fill_modulate_at::<B, $linear, _>(ctx, b, &view, band, s, alpha, level);
                 }
             };
         }
@@ -1188,17 +1218,19 @@ fn fill_modulate<B: Blender>(
     alpha: ModulateAlpha,
 ) {
     let sampler = t.sprite_sampler(p.size);
-    let texels = &sampler.level().texels[..];
+    let level = LevelTexels {
+        sampler: &sampler,
+        texels: &sampler.level().texels[..],
+    };
     if sampler.is_linear() {
-        fill_modulate_at::<B, true, u32>(ctx, b, p, band, s, alpha, &sampler, texels);
+        fill_modulate_at::<B, true, u32>(ctx, b, p, band, s, alpha, level);
     } else {
-        fill_modulate_at::<B, false, u32>(ctx, b, p, band, s, alpha, &sampler, texels);
+        fill_modulate_at::<B, false, u32>(ctx, b, p, band, s, alpha, level);
     }
 }
 
 /// [`fill_modulate`] with the sampler at the sprite's level of detail, linear (`LINEAR`) or
-/// point, reading the texels of its level from `texels` (packed or unpacked).
-#[allow(clippy::too_many_arguments)]
+/// point, reading the texels of its `level` (packed or unpacked).
 #[inline(always)]
 fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
@@ -1207,13 +1239,12 @@ fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
     band: &mut Band,
     s: &mut Scratch,
     alpha: ModulateAlpha,
-    sampler: &LodSampler,
-    texels: &[T],
+    level: LevelTexels<T>,
 ) {
     if p.rect.x1 - p.rect.x0 < 4 {
-        fill_narrow::<B, LINEAR, T>(ctx, b, p, band, alpha, sampler, texels);
+        fill_narrow::<B, LINEAR, T>(ctx, b, p, band, alpha, level);
     } else {
-        fill_modulate_with::<B, LINEAR, T>(ctx, b, p, band, s, alpha, sampler, texels);
+        fill_modulate_with::<B, LINEAR, T>(ctx, b, p, band, s, alpha, level);
     }
 }
 
@@ -1225,8 +1256,7 @@ fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     p: &SpriteView,
     band: &mut Band,
     alpha: ModulateAlpha,
-    sampler: &LodSampler,
-    texels: &[T],
+    LevelTexels { sampler, texels }: LevelTexels<T>,
 ) {
     let level = sampler.level();
     let single = sampler.mip_blend().is_none();
@@ -1261,7 +1291,6 @@ fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
 /// column and per row, then four pixels at a time where the texels of all four are inside the
 /// level (one texel read each, or one vertical lerp of two filtered texel rows,
 /// [`TexelRows`]), and [`TexelRow::texel`] for the other pixels.
-#[allow(clippy::too_many_arguments)]
 fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
@@ -1269,8 +1298,10 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
     band: &mut Band,
     s: &mut Scratch,
     alpha: ModulateAlpha,
-    sampler: &LodSampler,
-    level_texels: &[T],
+    LevelTexels {
+        sampler,
+        texels: level_texels,
+    }: LevelTexels<T>,
 ) {
     let (cols, groups, texel_rows) = (&mut s.cols, &mut s.groups, &mut s.texel_rows);
     texel_rows.reset();
