@@ -480,14 +480,14 @@ impl<B: Backend> Device<B> {
             .get_mut(s.0 as usize)
             .ok_or(DeviceError::Stage(stage))?;
         *slot = value.to_bits();
-        if matches!(s, TextureStageState::COLOROP | TextureStageState::ALPHAOP) {
-            if let Some(op) = TextureOp::from_raw(*slot).filter(|&op| is_unsupported_op(op)) {
-                self.notices.push(format!(
-                    "texture op {} on stage {stage} is not emulated; the stage passes CURRENT \
+        if matches!(s, TextureStageState::COLOROP | TextureStageState::ALPHAOP)
+            && let Some(op) = TextureOp::from_raw(*slot).filter(|&op| is_unsupported_op(op))
+        {
+            self.notices.push(format!(
+                "texture op {} on stage {stage} is not emulated; the stage passes CURRENT \
                      through",
-                    op.name()
-                ));
-            }
+                op.name()
+            ));
         }
         if !s.affects_points() && !self.noticed_stage[s.0 as usize] {
             self.noticed_stage[s.0 as usize] = true;

@@ -501,10 +501,10 @@ impl PointSetup {
             planes: [PixelPlane::default(); 6],
             plane_count: 0,
         };
-        if let Some(c) = clip {
-            if !self.clip_user_planes(pos, c, &mut point) {
-                return None;
-            }
+        if let Some(c) = clip
+            && !self.clip_user_planes(pos, c, &mut point)
+        {
+            return None;
         }
         Some(point)
     }

@@ -1061,10 +1061,10 @@ mod tests {
         assert_eq!(d(RenderState(1)), 0);
         // Every enum default except DEBUGMONITORTOKEN's runtime magic names a value.
         for &s in RenderState::all() {
-            if let ValueKind::Enum(t) = s.kind() {
-                if s != RenderState::DEBUGMONITORTOKEN {
-                    assert!(t.value_name(d(s)).is_some(), "{s:?}");
-                }
+            if let ValueKind::Enum(t) = s.kind()
+                && s != RenderState::DEBUGMONITORTOKEN
+            {
+                assert!(t.value_name(d(s)).is_some(), "{s:?}");
             }
         }
         for stage in 0..8 {

@@ -156,10 +156,10 @@ impl PointRenderer {
     /// The static index buffer, with room for at least `points` (or one chunk).
     fn index_buffer(&mut self, points: u32) -> Result<wgpu::Buffer, GpuError> {
         let want = points.clamp(1024, INDEX_CHUNK_POINTS);
-        if let Some((buffer, have)) = &self.index {
-            if *have >= want {
-                return Ok(buffer.clone());
-            }
+        if let Some((buffer, have)) = &self.index
+            && *have >= want
+        {
+            return Ok(buffer.clone());
         }
         let cap = want.next_power_of_two().min(INDEX_CHUNK_POINTS);
         let mut indices = Vec::with_capacity(cap as usize * 6);
@@ -221,10 +221,10 @@ impl PointRenderer {
     /// The view of `texture` on the GPU, uploaded on first use.
     fn texture_view(&mut self, texture: &Arc<Texture>) -> Result<wgpu::TextureView, GpuError> {
         let key = Arc::as_ptr(texture) as usize;
-        if let Some(c) = self.textures.get(&key) {
-            if c.source.upgrade().is_some_and(|t| Arc::ptr_eq(&t, texture)) {
-                return Ok(c.view.clone());
-            }
+        if let Some(c) = self.textures.get(&key)
+            && c.source.upgrade().is_some_and(|t| Arc::ptr_eq(&t, texture))
+        {
+            return Ok(c.view.clone());
         }
         let ctx = Arc::clone(&self.ctx);
         let view = ctx.scoped(|| upload_texture(&ctx, texture))?;

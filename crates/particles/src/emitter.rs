@@ -534,13 +534,13 @@ impl RenderSettings {
     }
 
     fn check(&self) -> Result<(), ConfigError> {
-        if let Some(abc) = self.point_scale {
-            if !abc.iter().all(|v| v.is_finite() && *v >= 0.0) {
-                return Err(ConfigError::new(
-                    "point_scale",
-                    "A, B and C must be finite numbers >= 0",
-                ));
-            }
+        if let Some(abc) = self.point_scale
+            && !abc.iter().all(|v| v.is_finite() && *v >= 0.0)
+        {
+            return Err(ConfigError::new(
+                "point_scale",
+                "A, B and C must be finite numbers >= 0",
+            ));
         }
         if !(self.size_min.is_finite() && self.size_min >= 0.0) {
             return Err(ConfigError::new(
@@ -548,13 +548,13 @@ impl RenderSettings {
                 format!("{} must be a finite number >= 0", self.size_min),
             ));
         }
-        if let Some(max) = self.size_max {
-            if !(max.is_finite() && max > 0.0) {
-                return Err(ConfigError::new(
-                    "size_max",
-                    format!("{max} must be a finite number > 0"),
-                ));
-            }
+        if let Some(max) = self.size_max
+            && !(max.is_finite() && max > 0.0)
+        {
+            return Err(ConfigError::new(
+                "size_max",
+                format!("{max} must be a finite number > 0"),
+            ));
         }
         Ok(())
     }

@@ -196,14 +196,16 @@ fn keys<'t, 'i>(
         if !(0.0..=1.0).contains(&t) {
             return Err(src.error(&tv.span(), &tpath, format!("t = {t} is outside 0..=1")));
         }
-        if let Some(&(prev, _, _)) = out.last() {
-            if t < prev {
-                return Err(src.error(
-                    &tv.span(),
-                    &tpath,
-                    format!("t = {t} comes before the previous key's {prev}: keys must be in increasing t"),
-                ));
-            }
+        if let Some(&(prev, _, _)) = out.last()
+            && t < prev
+        {
+            return Err(src.error(
+                &tv.span(),
+                &tpath,
+                format!(
+                    "t = {t} comes before the previous key's {prev}: keys must be in increasing t"
+                ),
+            ));
         }
         out.push((t, &pair[1], index(&kpath, 1)));
     }
@@ -265,12 +267,11 @@ fn color_curve(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Curve<[f32
         }
     }
     // `[r, g, b, a]` alone is a constant colour; a list of pairs is a curve.
-    if let DeValue::Array(a) = v.get_ref() {
-        if a.first()
+    if let DeValue::Array(a) = v.get_ref()
+        && a.first()
             .is_some_and(|x| !matches!(x.get_ref(), DeValue::Array(_)))
-        {
-            return Ok(Curve::constant(color(src, v, path)?));
-        }
+    {
+        return Ok(Curve::constant(color(src, v, path)?));
     }
     let list = keys(src, v, path)?;
     let mut out = Vec::with_capacity(list.len());
@@ -771,18 +772,18 @@ impl Parser<'_> {
                     let kf = fields(src, k, &kpath, &["time", "eye", "at", "up"])?;
                     let tv = kf.require(src, "time")?;
                     let time = at_least(src, tv, &kf.path("time"), 0.0)?;
-                    if let Some(prev) = keys.last() {
-                        if time < prev.time {
-                            return Err(src.error(
-                                &tv.span(),
-                                &kf.path("time"),
-                                format!(
-                                    "time {time} comes before the previous key's {}: keys must \
+                    if let Some(prev) = keys.last()
+                        && time < prev.time
+                    {
+                        return Err(src.error(
+                            &tv.span(),
+                            &kf.path("time"),
+                            format!(
+                                "time {time} comes before the previous key's {}: keys must \
                                      be in increasing time",
-                                    prev.time
-                                ),
-                            ));
-                        }
+                                prev.time
+                            ),
+                        ));
                     }
                     let eye = vec3(src, kf.require(src, "eye")?, &kf.path("eye"))?;
                     let atv = kf.require(src, "at")?;
