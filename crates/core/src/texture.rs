@@ -402,9 +402,10 @@ fn address(mode: TextureAddress, k: i64, n: i64) -> Option<usize> {
     Some(i as usize)
 }
 
-/// The texel (k, l) of a level after addressing, as a D3DCOLOR.
+/// SPEC 5.2: the texel (k, l) of a level after addressing, as a D3DCOLOR: the border colour
+/// where BORDER reads outside the level. Every sample reads its texels through this.
 #[inline(always)]
-fn fetch(level: &Level, s: &SamplerDesc, k: i64, l: i64) -> u32 {
+pub fn fetch(level: &Level, s: &SamplerDesc, k: i64, l: i64) -> u32 {
     match (
         address(s.address_u, k, i64::from(level.width)),
         address(s.address_v, l, i64::from(level.height)),
