@@ -33,7 +33,9 @@ Time the performance workloads and print per-frame medians (clear + draw + finis
 --backend gpu times the GPU backend on whatever adapter wgpu finds (a frame ends when the GPU
 is idle). With --peer llvmpipe the same points are drawn with Mesa llvmpipe's OpenGL point
 sprites (surfaceless EGL; Debian: libegl1 libegl-mesa0 libgl1-mesa-dri) and the ratio is
-printed. Threads: RAYON_NUM_THREADS sets how many the CPU backend and the simulation use.";
+printed. Threads: RAYON_NUM_THREADS sets how many the CPU backend and the simulation use;
+POINTILLIST_LANES=portable|avx2|avx512 the vectors its pixel spans run on (default: the
+widest the CPU has).";
 
 /// Arguments of `pointillist bench`.
 #[derive(Debug, Args)]
@@ -91,7 +93,14 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         BackendKind::Cpu if args.fixed_function_blending => {
             return Err("--fixed-function-blending needs --backend gpu".into());
         }
-        BackendKind::Cpu => None,
+        BackendKind::Cpu => {
+            println!(
+                "cpu: {} threads, {} spans",
+                rayon::current_num_threads(),
+                pointillist_cpu::lanes()
+            );
+            None
+        }
         BackendKind::Gpu => {
             let ctx = if args.fixed_function_blending {
                 GpuContext::new(ContextOptions {

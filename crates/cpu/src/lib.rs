@@ -20,6 +20,7 @@
 //! assert_eq!(target.pixel(72, 64), 0xFF00_0000);
 //! ```
 
+mod lanes;
 mod raster;
 mod simd;
 mod stage;
@@ -32,6 +33,14 @@ use pointillist_core::device::{
 use pointillist_core::fvf::Fvf;
 
 pub use pointillist_core::device;
+
+/// The vectors the CPU backend's wide pixel spans run on, `avx512` or `avx2`, the widest the CPU
+/// supports unless the environment variable `POINTILLIST_LANES` names a narrower one; or
+/// `portable` where the CPU has neither (or the variable says so), and spans of four pixels
+/// (SSE2 on x86-64) serve instead. The pixels are the same on every one.
+pub fn lanes() -> &'static str {
+    lanes::Level::detect().name()
+}
 
 /// A D3D9 device drawing on the CPU.
 pub type CpuDevice = Device<CpuBackend>;

@@ -20,7 +20,10 @@
 //! point with the core's [`point_texel`] and [`linear_texel`]) and do their colour arithmetic
 //! four channels at a time ([`F4`]); anywhere else they call the core sampler. A binned draw
 //! whose sprites all read one small level unpacks its texels once ([`Texel`]), the same values
-//! [`F4::from_argb`] gives each pixel otherwise.
+//! [`F4::from_argb`] gives each pixel otherwise. There, sprites at least [`SPAN_MIN_COLUMNS`]
+//! wide fill through [`span`]: the level as channel planes with its address margin, and each
+//! pixel row [`Lanes::N`] pixels at a time on the widest vectors the CPU has
+//! ([`mod@crate::lanes`]).
 
 use pointillist_core::color::{Rgba, pack, unpack};
 use pointillist_core::device::{DeviceState, MAX_STAGES, RenderTarget};
@@ -37,8 +40,11 @@ use pointillist_core::texture::{
 };
 use rayon::prelude::*;
 
+use crate::lanes::{Lanes, Level as LanesLevel, MAX_LANES, channels};
 use crate::simd::{F4, P4};
 use crate::stage::{Square, SquareStage};
+
+mod span;
 
 /// Target rows per band: small enough to spread work over threads, large enough that small
 /// sprites rarely straddle two bands.
@@ -46,6 +52,9 @@ const BAND_ROWS: usize = 32;
 /// Draws with fewer points run one point after another on the calling thread; bigger ones are
 /// binned, with any number of threads (the bands' locality pays on one thread too).
 const PARALLEL_MIN_POINTS: u32 = 2048;
+/// Binned sprites this many columns wide or more fill through the wide spans ([`span`]);
+/// narrower ones through [`fill_narrow`] and the four-pixel spans.
+const SPAN_MIN_COLUMNS: i32 = 8;
 
 /// How a source colour combines with the target.
 trait Blender: Sync {
@@ -55,6 +64,19 @@ trait Blender: Sync {
     #[inline(always)]
     fn blend4(&self, src: [u32; 4], _planar: &P4, dst: [u32; 4]) -> [u32; 4] {
         std::array::from_fn(|i| self.blend(src[i], dst[i]))
+    }
+
+    /// [`Blender::blend`] of a span of N pixels: `t` the source's quantized channels (blue,
+    /// green, red, alpha bytes) over `dst`. By default pixel by pixel.
+    #[inline(always)]
+    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], dst: L::U) -> L::U {
+        let (mut src, mut old) = ([0u32; MAX_LANES], [0u32; MAX_LANES]);
+        l.store_u(&mut src, l.pack(t));
+        l.store_u(&mut old, dst);
+        for (s, &d) in src.iter_mut().zip(&old).take(L::N) {
+            *s = self.blend(*s, d);
+        }
+        l.load_u(&src)
     }
 
     /// Blends `src` into the pixels `r` (inside `band`) through the channel mask (SPEC 5.5,
@@ -77,6 +99,11 @@ impl Blender for Replace {
     fn blend(&self, src: u32, _dst: u32) -> u32 {
         src
     }
+
+    #[inline(always)]
+    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], _dst: L::U) -> L::U {
+        l.pack(t)
+    }
 }
 
 /// ONE, ONE, ADD: a saturating byte add, exactly what the float formula rounds to, on all four
@@ -91,6 +118,11 @@ impl Blender for Additive {
     #[inline(always)]
     fn blend4(&self, src: [u32; 4], _: &P4, dst: [u32; 4]) -> [u32; 4] {
         crate::simd::add_pixels(src, dst)
+    }
+
+    #[inline(always)]
+    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], dst: L::U) -> L::U {
+        l.adds_u8(l.pack(t), dst)
     }
 
     #[inline(always)]
@@ -123,6 +155,22 @@ impl Blender for SourceAlpha {
     #[inline(always)]
     fn blend4(&self, _: [u32; 4], src: &P4, dst: [u32; 4]) -> [u32; 4] {
         P4::source_alpha(*src, P4::from_argb(dst)).to_argb()
+    }
+
+    #[inline(always)]
+    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], dst: L::U) -> L::U {
+        let s = channels!(|c| l.unit(t[c]));
+        let d = [
+            l.channel::<0>(dst),
+            l.channel::<8>(dst),
+            l.channel::<16>(dst),
+            l.channel::<24>(dst),
+        ];
+        let fd = l.sub(l.splat(1.0), s[3]);
+        // `s * a + d * (1 - a)` of unpacked bytes stays within `round_unit`'s domain.
+        l.pack(channels!(
+            |c| l.round_unit(l.add(l.mul(s[c], s[3]), l.mul(d[c], fd)))
+        ))
     }
 }
 
@@ -210,6 +258,8 @@ struct StageTexture<'a> {
     /// enough to bin ([`StageTexture::unpack`]): the sprite fills then read them without
     /// unpacking each. Empty otherwise, so small draws never pay for it.
     unpacked: Vec<F4>,
+    /// The same level as planes with its address margin, for the wide spans ([`span`]).
+    planar: Option<span::PlanarLevel>,
 }
 
 /// The largest level whose texels a draw unpacks once (1 MiB of [`F4`]).
@@ -263,12 +313,16 @@ impl<'a> StageTexture<'a> {
         self.texture.at_lod(&self.sampler, lod)
     }
 
-    /// Unpacks the texels of the `fixed` level when it has at most [`UNPACKED_MAX_TEXELS`].
-    fn unpack(&mut self) {
+    /// Unpacks the texels of the `fixed` level when it has at most [`UNPACKED_MAX_TEXELS`]: by
+    /// texel, and by plane for the wide spans (`spans`).
+    fn unpack(&mut self, spans: bool) {
         if let Some(f) = self.fixed {
             let texels = &f.level().texels;
             if texels.len() <= UNPACKED_MAX_TEXELS {
                 self.unpacked = texels.iter().map(|&c| F4::from_argb(c)).collect();
+                if spans {
+                    self.planar = Some(span::PlanarLevel::new(f.level(), &self.sampler));
+                }
             }
         }
     }
@@ -286,6 +340,9 @@ struct DrawContext<'a> {
     shading: Shading,
     textures: [Option<StageTexture<'a>>; MAX_STAGES],
     vertices: &'a [u8],
+    /// The vectors the wide spans run on; none on the portable level, whose spans are the
+    /// tests' twin (binned sprites then take the four-pixel spans).
+    spans: Option<LanesLevel>,
 }
 
 impl DrawContext<'_> {
@@ -311,6 +368,8 @@ struct Scratch {
     groups: Vec<Group>,
     /// Filtered texel rows, for [`fill_modulate`] with linear filtering.
     texel_rows: TexelRows,
+    /// The wide spans' columns and rows.
+    span: span::SpanScratch,
 }
 
 /// Four consecutive covered columns of a linear-filtered sprite with one MODULATE stage, as
@@ -476,6 +535,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
                 set: stage.texcoord_set,
                 fixed: (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0)),
                 unpacked: Vec::new(),
+                planar: None,
             }
         })
     });
@@ -489,12 +549,17 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         pixel,
         textures,
         vertices,
+        spans: match LanesLevel::detect() {
+            LanesLevel::Portable => None,
+            level => Some(level),
+        },
     };
     // Binned sprites read stage 0's texels unpacked, when its level is small.
-    if ctx.binned() && matches!(ctx.shading, Shading::Modulate(_)) {
-        if let Some(t) = &mut ctx.textures[0] {
-            t.unpack();
-        }
+    if ctx.binned()
+        && matches!(ctx.shading, Shading::Modulate(_))
+        && let Some(t) = &mut ctx.textures[0]
+    {
+        t.unpack(ctx.spans.is_some());
     }
     ctx
 }
@@ -761,10 +826,28 @@ impl Binned for Sprite {
             return;
         };
         let (packed, unpacked) = (&f.level().texels[..], &t.unpacked[..]);
+        let linear = f.is_linear();
         macro_rules! each {
             ($linear:literal, $texels:expr) => {
                 for p in points {
                     let view = p.view();
+                    if let (Some(lanes), Some(planar)) = (ctx.spans, &t.planar) {
+                        if view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
+                            && span::fill(
+                                lanes,
+                                linear,
+                                ctx,
+                                b,
+                                &view,
+                                band,
+                                &mut s.span,
+                                alpha,
+                                planar,
+                            )
+                        {
+                            continue;
+                        }
+                    }
                     let level = LevelTexels {
                         sampler: f,
                         texels: $texels,
@@ -773,7 +856,7 @@ impl Binned for Sprite {
                 }
             };
         }
-        match (f.is_linear(), unpacked.is_empty()) {
+        match (linear, unpacked.is_empty()) {
             (true, false) => each!(true, unpacked),
             (false, false) => each!(false, unpacked),
             (true, true) => each!(true, packed),
@@ -1525,18 +1608,28 @@ mod tests {
                 t.color.iter_mut().for_each(|c| *c = rng.next());
                 t
             };
-            let mut fast = clear(&mut rng);
-            let mut general = fast.clone();
-            draw(&mut fast, &mut Bins::default(), None, state, fvf, &vertices);
+            let start = clear(&mut rng);
+            let mut general = start.clone();
             draw_general(&mut general, state, fvf, &vertices);
             let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
-            for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
-                assert_eq!(
-                    a, b,
-                    "scene {scene} {setup:?}: pixel {k}: {a:08x} vs {b:08x}"
-                );
+            // The wide spans on every level this machine has, and none.
+            let levels = LanesLevel::available().into_iter().map(Some);
+            for lanes in levels.chain([None]) {
+                let mut fast = start.clone();
+                let mut ctx = context(state, fvf, &vertices);
+                ctx.spans = lanes;
+                if let Some(t) = &mut ctx.textures[0] {
+                    t.unpack(lanes.is_some());
+                }
+                draw_context(&ctx, &mut fast, &mut Bins::default(), None);
+                for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
+                    assert_eq!(
+                        a, b,
+                        "scene {scene} {setup:?} {lanes:?}: pixel {k}: {a:08x} vs {b:08x}"
+                    );
+                }
+                assert_eq!(fast.depth, general.depth, "scene {scene} {lanes:?}");
             }
-            assert_eq!(fast.depth, general.depth, "scene {scene}");
         }
     }
 

@@ -1,0 +1,1016 @@
+//! Pixel spans on the machine's widest vectors: [`Lanes`] is N lanes of f32 and of u32 with the
+//! operations the span fills need (SPEC 1's unpack and round-to-nearest pack, the sampler's
+//! lerp, the blend arithmetic, the alpha and depth comparisons), implemented for AVX-512
+//! (sixteen lanes), AVX2 (eight) and a portable twin (eight lanes of plain scalar code, the
+//! reference the tests compare the others with, and the fallback on every other machine).
+//!
+//! Contract: every operation is, lane by lane, the exact IEEE f32 operation (or the integer
+//! operation) the scalar reference performs, never fused, so a span gives the bits of its
+//! pixels drawn one at a time whichever implementation runs.
+//!
+//! A value of [`Avx2`] or [`Avx512`] exists only once the CPU has been seen to have the
+//! features ([`Level::detect`]); their operations call the intrinsics, which is sound because
+//! holding the value proves the features. Code generic over `L: Lanes` must be inlined into a
+//! function compiled with the features ([`Level`] names them), so every operation is
+//! `#[inline(always)]`.
+
+#![allow(unsafe_code)]
+
+use pointillist_core::color::{f32_to_unorm8, unorm8_to_f32};
+use pointillist_core::states::Cmp;
+
+/// `[e(0), e(1), e(2), e(3)]` for the four channels, written out: closures (`array::map`,
+/// `array::from_fn`) are functions of their own, compiled without the features of the
+/// function they would otherwise inline into, and would call every intrinsic out of line.
+macro_rules! channels {
+    (|$c:ident| $e:expr) => {
+        [
+            {
+                let $c = 0;
+                $e
+            },
+            {
+                let $c = 1;
+                $e
+            },
+            {
+                let $c = 2;
+                $e
+            },
+            {
+                let $c = 3;
+                $e
+            },
+        ]
+    };
+}
+pub(crate) use channels;
+
+/// The most lanes any implementation has: scratch rows are padded to a multiple of it.
+pub(crate) const MAX_LANES: usize = 16;
+
+/// N lanes of f32 ([`Lanes::F`]), of u32 ([`Lanes::U`]) and a lane mask ([`Lanes::M`]).
+pub(crate) trait Lanes: Copy + Send + Sync {
+    /// The number of lanes.
+    const N: usize;
+    /// N f32.
+    type F: Copy;
+    /// N u32.
+    type U: Copy;
+    /// One bit of truth per lane.
+    type M: Copy;
+
+    /// `x` in every lane.
+    fn splat(self, x: f32) -> Self::F;
+    /// `x` in every lane.
+    fn splat_u(self, x: u32) -> Self::U;
+    /// The first N values of `s` (panics when it is shorter).
+    fn load(self, s: &[f32]) -> Self::F;
+    /// The first N values of `s` (panics when it is shorter).
+    fn load_u(self, s: &[u32]) -> Self::U;
+    /// Stores the lanes into the first N values of `s` (panics when it is shorter).
+    fn store(self, s: &mut [f32], v: Self::F);
+    /// Stores the lanes into the first N values of `s` (panics when it is shorter).
+    fn store_u(self, s: &mut [u32], v: Self::U);
+    /// The values of `s`, at most N, in the first lanes; the other lanes are 0.
+    fn load_part(self, s: &[f32]) -> Self::F;
+    /// The values of `s`, at most N, in the first lanes; the other lanes are 0.
+    fn load_u_part(self, s: &[u32]) -> Self::U;
+    /// Stores the first lanes into `s`, at most N values.
+    fn store_part(self, s: &mut [f32], v: Self::F);
+    /// Stores the first lanes into `s`, at most N values.
+    fn store_u_part(self, s: &mut [u32], v: Self::U);
+    /// Rows of at most this many values [`Lanes::gather`] reads from registers, at about the
+    /// cost of a load; longer rows take the CPU's gather, a load per lane.
+    const REGISTER_GATHER: usize;
+    /// `row[idx]` lane by lane; an index past the end reads the last value.
+    fn gather(self, row: &[f32], idx: Self::U) -> Self::F;
+    /// `row[idx]` lane by lane; an index past the end reads the last value.
+    fn gather_u(self, row: &[u32], idx: Self::U) -> Self::U;
+
+    /// `a + b`.
+    fn add(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a - b`.
+    fn sub(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a * b`.
+    fn mul(self, a: Self::F, b: Self::F) -> Self::F;
+
+    /// The sampler's `a + (b - a) * t` (SPEC 5.2), three roundings.
+    #[inline(always)]
+    fn lerp(self, a: Self::F, b: Self::F, t: Self::F) -> Self::F {
+        self.add(a, self.mul(self.sub(b, a), t))
+    }
+
+    /// SPEC 1's unpack of the byte at bit `SHIFT` of each D3DCOLOR: `byte * (1 / 255)`.
+    fn channel<const SHIFT: u32>(self, px: Self::U) -> Self::F;
+    /// SPEC 1's float to unorm8: saturate (NaN counts as 0), scale by 255, round half up.
+    fn round_unorm(self, v: Self::F) -> Self::U;
+    /// [`Lanes::round_unorm`] of values within 1/512 of the unit interval, where the
+    /// saturation cannot change the result (`v * 255` is within 255/512 of `0..=255`, under
+    /// the half step): the products and lerps of unpacked bytes the span fills quantize.
+    fn round_unit(self, v: Self::F) -> Self::U;
+    /// `t * (1 / 255)` for bytes `t`: the unpack of a quantized channel.
+    fn unit(self, t: Self::U) -> Self::F;
+    /// D3DCOLORs from byte lanes (blue, green, red, alpha).
+    fn pack(self, c: [Self::U; 4]) -> Self::U;
+    /// The per-byte saturating sum (SPEC 5.5's ONE, ONE, ADD).
+    fn adds_u8(self, a: Self::U, b: Self::U) -> Self::U;
+    /// SPEC 5.6: `(new & mask) | (old & !mask)`.
+    fn write_masked(self, mask: u32, new: Self::U, old: Self::U) -> Self::U;
+
+    /// `compare(func, a, b)` of core (SPEC 5.4) lane by lane.
+    fn cmp(self, func: Cmp, a: Self::F, b: Self::F) -> Self::M;
+    /// `compare(func, a, b)` of core (SPEC 5.3) lane by lane, for bytes.
+    fn cmp_u(self, func: Cmp, a: Self::U, b: Self::U) -> Self::M;
+    /// Lanes true in both.
+    fn and(self, a: Self::M, b: Self::M) -> Self::M;
+    /// Every lane true.
+    fn all(self) -> Self::M;
+    /// `if m { a } else { b }` lane by lane.
+    fn select(self, m: Self::M, a: Self::U, b: Self::U) -> Self::U;
+    /// `if m { a } else { b }` lane by lane.
+    fn select_f(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F;
+}
+
+/// The environment variable that chooses a narrower [`Level`] than the widest the CPU has
+/// (`portable`, `avx2`, `avx512`), to compare them.
+pub(crate) const LANES_VAR: &str = "POINTILLIST_LANES";
+
+/// Which [`Lanes`] this machine runs, detected once.
+#[derive(Copy, Clone, Debug)]
+pub(crate) enum Level {
+    /// [`Portable`].
+    Portable,
+    /// [`Avx2`].
+    #[cfg(target_arch = "x86_64")]
+    Avx2(Avx2),
+    /// [`Avx512`].
+    #[cfg(target_arch = "x86_64")]
+    Avx512(Avx512),
+}
+
+impl Level {
+    /// The level the spans run on, chosen once per process: the one [`LANES_VAR`] names when
+    /// the CPU supports it, else the widest the CPU supports.
+    pub(crate) fn detect() -> Level {
+        static LEVEL: std::sync::OnceLock<Level> = std::sync::OnceLock::new();
+        *LEVEL.get_or_init(|| {
+            let wanted = std::env::var(LANES_VAR).ok();
+            let available = Level::available();
+            let named = available
+                .iter()
+                .find(|l| wanted.as_deref() == Some(l.name()));
+            *named.or(available.last()).unwrap_or(&Level::Portable)
+        })
+    }
+
+    /// The level's name: `portable`, `avx2` or `avx512`.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Level::Portable => "portable",
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2(_) => "avx2",
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512(_) => "avx512",
+        }
+    }
+
+    /// Every level the CPU supports, narrowest first (for the tests, which run each).
+    pub(crate) fn available() -> Vec<Level> {
+        let mut levels = vec![Level::Portable];
+        #[cfg(target_arch = "x86_64")]
+        {
+            levels.extend(Avx2::new().map(Level::Avx2));
+            levels.extend(Avx512::new().map(Level::Avx512));
+        }
+        levels
+    }
+}
+
+/// The portable twin: eight lanes of the scalar reference, lane by lane.
+#[derive(Copy, Clone, Debug, Default)]
+pub(crate) struct Portable;
+
+impl Lanes for Portable {
+    const N: usize = 8;
+    type F = [f32; 8];
+    type U = [u32; 8];
+    type M = [bool; 8];
+
+    #[inline(always)]
+    fn splat(self, x: f32) -> [f32; 8] {
+        [x; 8]
+    }
+    #[inline(always)]
+    fn splat_u(self, x: u32) -> [u32; 8] {
+        [x; 8]
+    }
+    #[inline(always)]
+    fn load(self, s: &[f32]) -> [f32; 8] {
+        s[..8].try_into().expect("eight lanes")
+    }
+    #[inline(always)]
+    fn load_u(self, s: &[u32]) -> [u32; 8] {
+        s[..8].try_into().expect("eight lanes")
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [f32], v: [f32; 8]) {
+        s[..8].copy_from_slice(&v);
+    }
+    #[inline(always)]
+    fn store_u(self, s: &mut [u32], v: [u32; 8]) {
+        s[..8].copy_from_slice(&v);
+    }
+    #[inline(always)]
+    fn load_part(self, s: &[f32]) -> [f32; 8] {
+        std::array::from_fn(|i| s.get(i).copied().unwrap_or(0.0))
+    }
+    #[inline(always)]
+    fn load_u_part(self, s: &[u32]) -> [u32; 8] {
+        std::array::from_fn(|i| s.get(i).copied().unwrap_or(0))
+    }
+    #[inline(always)]
+    fn store_part(self, s: &mut [f32], v: [f32; 8]) {
+        let n = s.len().min(8);
+        s[..n].copy_from_slice(&v[..n]);
+    }
+    #[inline(always)]
+    fn store_u_part(self, s: &mut [u32], v: [u32; 8]) {
+        let n = s.len().min(8);
+        s[..n].copy_from_slice(&v[..n]);
+    }
+    const REGISTER_GATHER: usize = usize::MAX;
+    #[inline(always)]
+    fn gather(self, row: &[f32], idx: [u32; 8]) -> [f32; 8] {
+        let last = row.len() - 1;
+        idx.map(|i| row[(i as usize).min(last)])
+    }
+    #[inline(always)]
+    fn gather_u(self, row: &[u32], idx: [u32; 8]) -> [u32; 8] {
+        let last = row.len() - 1;
+        idx.map(|i| row[(i as usize).min(last)])
+    }
+    #[inline(always)]
+    fn add(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
+        std::array::from_fn(|i| a[i] + b[i])
+    }
+    #[inline(always)]
+    fn sub(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
+        std::array::from_fn(|i| a[i] - b[i])
+    }
+    #[inline(always)]
+    fn mul(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
+        std::array::from_fn(|i| a[i] * b[i])
+    }
+    #[inline(always)]
+    fn channel<const SHIFT: u32>(self, px: [u32; 8]) -> [f32; 8] {
+        px.map(|p| unorm8_to_f32((p >> SHIFT) as u8))
+    }
+    #[inline(always)]
+    fn round_unorm(self, v: [f32; 8]) -> [u32; 8] {
+        v.map(|x| u32::from(f32_to_unorm8(x)))
+    }
+    #[inline(always)]
+    fn round_unit(self, v: [f32; 8]) -> [u32; 8] {
+        self.round_unorm(v)
+    }
+    #[inline(always)]
+    fn unit(self, t: [u32; 8]) -> [f32; 8] {
+        t.map(|x| unorm8_to_f32(x as u8))
+    }
+    #[inline(always)]
+    fn pack(self, [b, g, r, a]: [[u32; 8]; 4]) -> [u32; 8] {
+        std::array::from_fn(|i| b[i] | g[i] << 8 | r[i] << 16 | a[i] << 24)
+    }
+    #[inline(always)]
+    fn adds_u8(self, a: [u32; 8], b: [u32; 8]) -> [u32; 8] {
+        std::array::from_fn(|i| {
+            let (x, y) = (a[i].to_le_bytes(), b[i].to_le_bytes());
+            u32::from_le_bytes(std::array::from_fn(|k| x[k].saturating_add(y[k])))
+        })
+    }
+    #[inline(always)]
+    fn write_masked(self, mask: u32, new: [u32; 8], old: [u32; 8]) -> [u32; 8] {
+        std::array::from_fn(|i| (new[i] & mask) | (old[i] & !mask))
+    }
+    #[inline(always)]
+    fn cmp(self, func: Cmp, a: [f32; 8], b: [f32; 8]) -> [bool; 8] {
+        std::array::from_fn(|i| pointillist_core::pixel::compare(func, a[i], b[i]))
+    }
+    #[inline(always)]
+    fn cmp_u(self, func: Cmp, a: [u32; 8], b: [u32; 8]) -> [bool; 8] {
+        std::array::from_fn(|i| pointillist_core::pixel::compare(func, a[i], b[i]))
+    }
+    #[inline(always)]
+    fn and(self, a: [bool; 8], b: [bool; 8]) -> [bool; 8] {
+        std::array::from_fn(|i| a[i] && b[i])
+    }
+    #[inline(always)]
+    fn all(self) -> [bool; 8] {
+        [true; 8]
+    }
+    #[inline(always)]
+    fn select(self, m: [bool; 8], a: [u32; 8], b: [u32; 8]) -> [u32; 8] {
+        std::array::from_fn(|i| if m[i] { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    fn select_f(self, m: [bool; 8], a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
+        std::array::from_fn(|i| if m[i] { a[i] } else { b[i] })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use x86::{Avx2, Avx512};
+
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use super::Lanes;
+    use pointillist_core::states::Cmp;
+    use std::arch::x86_64::*;
+
+    /// Eight lanes of AVX2; exists only where the CPU has AVX2.
+    #[derive(Copy, Clone, Debug)]
+    pub(crate) struct Avx2(());
+
+    impl Avx2 {
+        /// The level, when the CPU has AVX2.
+        pub(crate) fn new() -> Option<Avx2> {
+            is_x86_feature_detected!("avx2").then_some(Avx2(()))
+        }
+    }
+
+    /// The mask of the first `n` of eight lanes (all eight for `n >= 8`).
+    #[inline(always)]
+    fn first8(n: usize) -> __m256i {
+        // SAFETY: AVX (part of AVX2) is present wherever this is called, inside `Avx2`'s
+        // operations; the comparison reads registers only.
+        unsafe {
+            let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+            _mm256_cmpgt_epi32(_mm256_set1_epi32(n.min(8) as i32), lane)
+        }
+    }
+
+    // SAFETY (every `unsafe` block of this impl): a value of `Avx2` exists only after
+    // `is_x86_feature_detected!("avx2")` (its field is private and `Avx2::new` checks), so the
+    // CPU runs the AVX2 instructions; loads and stores go through slices whose length was
+    // checked first, and gathers clamp their indices into the slice.
+    impl Lanes for Avx2 {
+        const N: usize = 8;
+        type F = __m256;
+        type U = __m256i;
+        type M = __m256i;
+
+        #[inline(always)]
+        fn splat(self, x: f32) -> __m256 {
+            unsafe { _mm256_set1_ps(x) }
+        }
+        #[inline(always)]
+        fn splat_u(self, x: u32) -> __m256i {
+            unsafe { _mm256_set1_epi32(x as i32) }
+        }
+        #[inline(always)]
+        fn load(self, s: &[f32]) -> __m256 {
+            let s = &s[..8];
+            unsafe { _mm256_loadu_ps(s.as_ptr()) }
+        }
+        #[inline(always)]
+        fn load_u(self, s: &[u32]) -> __m256i {
+            let s = &s[..8];
+            unsafe { _mm256_loadu_si256(s.as_ptr().cast()) }
+        }
+        #[inline(always)]
+        fn store(self, s: &mut [f32], v: __m256) {
+            let s = &mut s[..8];
+            unsafe { _mm256_storeu_ps(s.as_mut_ptr(), v) }
+        }
+        #[inline(always)]
+        fn store_u(self, s: &mut [u32], v: __m256i) {
+            let s = &mut s[..8];
+            unsafe { _mm256_storeu_si256(s.as_mut_ptr().cast(), v) }
+        }
+        #[inline(always)]
+        fn load_part(self, s: &[f32]) -> __m256 {
+            // Lanes past the slice are masked off: maskload reads nothing there.
+            unsafe { _mm256_maskload_ps(s.as_ptr(), first8(s.len())) }
+        }
+        #[inline(always)]
+        fn load_u_part(self, s: &[u32]) -> __m256i {
+            unsafe { _mm256_maskload_epi32(s.as_ptr().cast(), first8(s.len())) }
+        }
+        #[inline(always)]
+        fn store_part(self, s: &mut [f32], v: __m256) {
+            unsafe { _mm256_maskstore_ps(s.as_mut_ptr(), first8(s.len()), v) }
+        }
+        #[inline(always)]
+        fn store_u_part(self, s: &mut [u32], v: __m256i) {
+            unsafe { _mm256_maskstore_epi32(s.as_mut_ptr().cast(), first8(s.len()), v) }
+        }
+        const REGISTER_GATHER: usize = 8;
+        #[inline(always)]
+        fn gather(self, row: &[f32], idx: __m256i) -> __m256 {
+            assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
+            unsafe {
+                let idx = _mm256_min_epu32(idx, _mm256_set1_epi32(row.len() as i32 - 1));
+                if row.len() <= 8 {
+                    return _mm256_permutevar8x32_ps(self.load_part(row), idx);
+                }
+                _mm256_i32gather_ps::<4>(row.as_ptr(), idx)
+            }
+        }
+        #[inline(always)]
+        fn gather_u(self, row: &[u32], idx: __m256i) -> __m256i {
+            assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
+            unsafe {
+                let idx = _mm256_min_epu32(idx, _mm256_set1_epi32(row.len() as i32 - 1));
+                _mm256_i32gather_epi32::<4>(row.as_ptr().cast(), idx)
+            }
+        }
+        #[inline(always)]
+        fn add(self, a: __m256, b: __m256) -> __m256 {
+            unsafe { _mm256_add_ps(a, b) }
+        }
+        #[inline(always)]
+        fn sub(self, a: __m256, b: __m256) -> __m256 {
+            unsafe { _mm256_sub_ps(a, b) }
+        }
+        #[inline(always)]
+        fn mul(self, a: __m256, b: __m256) -> __m256 {
+            unsafe { _mm256_mul_ps(a, b) }
+        }
+        #[inline(always)]
+        fn channel<const SHIFT: u32>(self, px: __m256i) -> __m256 {
+            unsafe {
+                let byte = _mm256_and_si256(
+                    _mm256_srlv_epi32(px, _mm256_set1_epi32(SHIFT as i32)),
+                    _mm256_set1_epi32(0xFF),
+                );
+                // `f32::from(v) * (1.0 / 255.0)`: the conversion is exact, the product one
+                // rounding.
+                _mm256_mul_ps(_mm256_cvtepi32_ps(byte), _mm256_set1_ps(1.0 / 255.0))
+            }
+        }
+        #[inline(always)]
+        fn round_unorm(self, v: __m256) -> __m256i {
+            unsafe {
+                // `v.clamp(0.0, 1.0) * 255.0`; maxps returns its second operand for NaN, so
+                // NaN becomes 0, as the scalar `as u8` gives.
+                let x = _mm256_mul_ps(
+                    _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), _mm256_set1_ps(1.0)),
+                    _mm256_set1_ps(255.0),
+                );
+                // Truncate, then add one where `x - trunc(x) >= 0.5` (the mask is -1).
+                let t = _mm256_cvttps_epi32(x);
+                let frac = _mm256_sub_ps(x, _mm256_cvtepi32_ps(t));
+                let up = _mm256_cmp_ps::<_CMP_GE_OQ>(frac, _mm256_set1_ps(0.5));
+                _mm256_sub_epi32(t, _mm256_castps_si256(up))
+            }
+        }
+        #[inline(always)]
+        fn round_unit(self, v: __m256) -> __m256i {
+            unsafe {
+                // `round_unorm` without the clamp: `x` is above -0.5, where truncation gives 0
+                // and the fraction is negative, so no lane rounds up to 1.
+                let x = _mm256_mul_ps(v, _mm256_set1_ps(255.0));
+                let t = _mm256_cvttps_epi32(x);
+                let frac = _mm256_sub_ps(x, _mm256_cvtepi32_ps(t));
+                let up = _mm256_cmp_ps::<_CMP_GE_OQ>(frac, _mm256_set1_ps(0.5));
+                _mm256_sub_epi32(t, _mm256_castps_si256(up))
+            }
+        }
+        #[inline(always)]
+        fn unit(self, t: __m256i) -> __m256 {
+            unsafe { _mm256_mul_ps(_mm256_cvtepi32_ps(t), _mm256_set1_ps(1.0 / 255.0)) }
+        }
+        #[inline(always)]
+        fn pack(self, [b, g, r, a]: [__m256i; 4]) -> __m256i {
+            // Every lane is a byte, so the shifted channels do not overlap.
+            unsafe {
+                _mm256_or_si256(
+                    _mm256_or_si256(b, _mm256_slli_epi32::<8>(g)),
+                    _mm256_or_si256(_mm256_slli_epi32::<16>(r), _mm256_slli_epi32::<24>(a)),
+                )
+            }
+        }
+        #[inline(always)]
+        fn adds_u8(self, a: __m256i, b: __m256i) -> __m256i {
+            unsafe { _mm256_adds_epu8(a, b) }
+        }
+        #[inline(always)]
+        fn write_masked(self, mask: u32, new: __m256i, old: __m256i) -> __m256i {
+            unsafe {
+                let m = _mm256_set1_epi32(mask as i32);
+                _mm256_or_si256(_mm256_and_si256(new, m), _mm256_andnot_si256(m, old))
+            }
+        }
+        #[inline(always)]
+        fn cmp(self, func: Cmp, a: __m256, b: __m256) -> __m256i {
+            unsafe {
+                let never = _mm256_setzero_si256();
+                let always = _mm256_set1_epi32(-1);
+                macro_rules! cmp {
+                    ($p:ident) => {
+                        _mm256_castps_si256(_mm256_cmp_ps::<$p>(a, b))
+                    };
+                }
+                match func {
+                    Cmp::Never => never,
+                    Cmp::Always => always,
+                    Cmp::Less => cmp!(_CMP_LT_OQ),
+                    Cmp::Equal => cmp!(_CMP_EQ_OQ),
+                    Cmp::LessEqual => cmp!(_CMP_LE_OQ),
+                    Cmp::Greater => cmp!(_CMP_GT_OQ),
+                    Cmp::NotEqual => cmp!(_CMP_NEQ_UQ),
+                    Cmp::GreaterEqual => cmp!(_CMP_GE_OQ),
+                }
+            }
+        }
+        #[inline(always)]
+        fn cmp_u(self, func: Cmp, a: __m256i, b: __m256i) -> __m256i {
+            // Bytes: signed 32-bit comparisons order them as unsigned ones do.
+            unsafe {
+                let not = |m: __m256i| _mm256_xor_si256(m, _mm256_set1_epi32(-1));
+                match func {
+                    Cmp::Never => _mm256_setzero_si256(),
+                    Cmp::Always => _mm256_set1_epi32(-1),
+                    Cmp::Less => _mm256_cmpgt_epi32(b, a),
+                    Cmp::Equal => _mm256_cmpeq_epi32(a, b),
+                    Cmp::LessEqual => not(_mm256_cmpgt_epi32(a, b)),
+                    Cmp::Greater => _mm256_cmpgt_epi32(a, b),
+                    Cmp::NotEqual => not(_mm256_cmpeq_epi32(a, b)),
+                    Cmp::GreaterEqual => not(_mm256_cmpgt_epi32(b, a)),
+                }
+            }
+        }
+        #[inline(always)]
+        fn and(self, a: __m256i, b: __m256i) -> __m256i {
+            unsafe { _mm256_and_si256(a, b) }
+        }
+        #[inline(always)]
+        fn all(self) -> __m256i {
+            unsafe { _mm256_set1_epi32(-1) }
+        }
+        #[inline(always)]
+        fn select(self, m: __m256i, a: __m256i, b: __m256i) -> __m256i {
+            unsafe { _mm256_blendv_epi8(b, a, m) }
+        }
+        #[inline(always)]
+        fn select_f(self, m: __m256i, a: __m256, b: __m256) -> __m256 {
+            unsafe { _mm256_blendv_ps(b, a, _mm256_castsi256_ps(m)) }
+        }
+    }
+
+    /// Sixteen lanes of AVX-512 (F and BW); exists only where the CPU has both.
+    #[derive(Copy, Clone, Debug)]
+    pub(crate) struct Avx512(());
+
+    impl Avx512 {
+        /// The level, when the CPU has AVX-512 F and BW.
+        pub(crate) fn new() -> Option<Avx512> {
+            (is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512bw"))
+                .then_some(Avx512(()))
+        }
+    }
+
+    /// The mask of the first `n` of sixteen lanes (all sixteen for `n >= 16`).
+    #[inline(always)]
+    fn first16(n: usize) -> __mmask16 {
+        ((1u32 << n.min(16)) - 1) as __mmask16
+    }
+
+    /// Round toward negative infinity without exceptions, for the embedded-rounding forms.
+    const DOWN: i32 = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+
+    // SAFETY (every `unsafe` block of this impl): a value of `Avx512` exists only after
+    // `is_x86_feature_detected!` saw AVX-512 F and BW (its field is private and
+    // `Avx512::new` checks), so the CPU runs the instructions; loads and stores go through
+    // slices whose length was checked first, and gathers clamp their indices into the slice.
+    impl Lanes for Avx512 {
+        const N: usize = 16;
+        type F = __m512;
+        type U = __m512i;
+        type M = __mmask16;
+
+        #[inline(always)]
+        fn splat(self, x: f32) -> __m512 {
+            unsafe { _mm512_set1_ps(x) }
+        }
+        #[inline(always)]
+        fn splat_u(self, x: u32) -> __m512i {
+            unsafe { _mm512_set1_epi32(x as i32) }
+        }
+        #[inline(always)]
+        fn load(self, s: &[f32]) -> __m512 {
+            let s = &s[..16];
+            unsafe { _mm512_loadu_ps(s.as_ptr()) }
+        }
+        #[inline(always)]
+        fn load_u(self, s: &[u32]) -> __m512i {
+            let s = &s[..16];
+            unsafe { _mm512_loadu_si512(s.as_ptr().cast()) }
+        }
+        #[inline(always)]
+        fn store(self, s: &mut [f32], v: __m512) {
+            let s = &mut s[..16];
+            unsafe { _mm512_storeu_ps(s.as_mut_ptr(), v) }
+        }
+        #[inline(always)]
+        fn store_u(self, s: &mut [u32], v: __m512i) {
+            let s = &mut s[..16];
+            unsafe { _mm512_storeu_si512(s.as_mut_ptr().cast(), v) }
+        }
+        #[inline(always)]
+        fn load_part(self, s: &[f32]) -> __m512 {
+            // Lanes past the slice are masked off: nothing is read there.
+            unsafe { _mm512_maskz_loadu_ps(first16(s.len()), s.as_ptr()) }
+        }
+        #[inline(always)]
+        fn load_u_part(self, s: &[u32]) -> __m512i {
+            unsafe { _mm512_maskz_loadu_epi32(first16(s.len()), s.as_ptr().cast()) }
+        }
+        #[inline(always)]
+        fn store_part(self, s: &mut [f32], v: __m512) {
+            unsafe { _mm512_mask_storeu_ps(s.as_mut_ptr(), first16(s.len()), v) }
+        }
+        #[inline(always)]
+        fn store_u_part(self, s: &mut [u32], v: __m512i) {
+            unsafe { _mm512_mask_storeu_epi32(s.as_mut_ptr().cast(), first16(s.len()), v) }
+        }
+        const REGISTER_GATHER: usize = 32;
+        #[inline(always)]
+        fn gather(self, row: &[f32], idx: __m512i) -> __m512 {
+            assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
+            unsafe {
+                let idx = _mm512_min_epu32(idx, _mm512_set1_epi32(row.len() as i32 - 1));
+                if row.len() <= 16 {
+                    return _mm512_permutexvar_ps(idx, self.load_part(row));
+                }
+                if row.len() <= 32 {
+                    let (low, high) = row.split_at(16);
+                    return _mm512_permutex2var_ps(self.load(low), idx, self.load_part(high));
+                }
+                _mm512_i32gather_ps::<4>(idx, row.as_ptr())
+            }
+        }
+        #[inline(always)]
+        fn gather_u(self, row: &[u32], idx: __m512i) -> __m512i {
+            assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
+            unsafe {
+                let idx = _mm512_min_epu32(idx, _mm512_set1_epi32(row.len() as i32 - 1));
+                _mm512_i32gather_epi32::<4>(idx, row.as_ptr().cast())
+            }
+        }
+        #[inline(always)]
+        fn add(self, a: __m512, b: __m512) -> __m512 {
+            unsafe { _mm512_add_ps(a, b) }
+        }
+        #[inline(always)]
+        fn sub(self, a: __m512, b: __m512) -> __m512 {
+            unsafe { _mm512_sub_ps(a, b) }
+        }
+        #[inline(always)]
+        fn mul(self, a: __m512, b: __m512) -> __m512 {
+            unsafe { _mm512_mul_ps(a, b) }
+        }
+        #[inline(always)]
+        fn channel<const SHIFT: u32>(self, px: __m512i) -> __m512 {
+            unsafe {
+                let byte = if SHIFT == 24 {
+                    _mm512_srli_epi32::<SHIFT>(px)
+                } else {
+                    _mm512_and_si512(_mm512_srli_epi32::<SHIFT>(px), _mm512_set1_epi32(0xFF))
+                };
+                _mm512_mul_ps(_mm512_cvtepi32_ps(byte), _mm512_set1_ps(1.0 / 255.0))
+            }
+        }
+        #[inline(always)]
+        fn round_unorm(self, v: __m512) -> __m512i {
+            unsafe {
+                // `v.clamp(0.0, 1.0) * 255.0`, NaN to 0 as in the AVX2 twin.
+                let x = _mm512_mul_ps(
+                    _mm512_min_ps(_mm512_max_ps(v, _mm512_setzero_ps()), _mm512_set1_ps(1.0)),
+                    _mm512_set1_ps(255.0),
+                );
+                // Round half up is `floor(x + 0.5)` of the exact sum. The sum rounded toward
+                // negative infinity has the same floor: it is the largest float not above the
+                // exact sum, and the integer `floor(x + 0.5)` is such a float.
+                let s = _mm512_add_round_ps::<DOWN>(x, _mm512_set1_ps(0.5));
+                _mm512_cvt_roundps_epi32::<DOWN>(s)
+            }
+        }
+        #[inline(always)]
+        fn round_unit(self, v: __m512) -> __m512i {
+            unsafe {
+                // `round_unorm` without the clamp: `x + 0.5` stays in `0..256`.
+                let x = _mm512_mul_ps(v, _mm512_set1_ps(255.0));
+                let s = _mm512_add_round_ps::<DOWN>(x, _mm512_set1_ps(0.5));
+                _mm512_cvt_roundps_epi32::<DOWN>(s)
+            }
+        }
+        #[inline(always)]
+        fn unit(self, t: __m512i) -> __m512 {
+            unsafe { _mm512_mul_ps(_mm512_cvtepi32_ps(t), _mm512_set1_ps(1.0 / 255.0)) }
+        }
+        #[inline(always)]
+        fn pack(self, [b, g, r, a]: [__m512i; 4]) -> __m512i {
+            // Every lane is a byte, so the shifted channels do not overlap.
+            unsafe {
+                _mm512_or_si512(
+                    _mm512_or_si512(b, _mm512_slli_epi32::<8>(g)),
+                    _mm512_or_si512(_mm512_slli_epi32::<16>(r), _mm512_slli_epi32::<24>(a)),
+                )
+            }
+        }
+        #[inline(always)]
+        fn adds_u8(self, a: __m512i, b: __m512i) -> __m512i {
+            unsafe { _mm512_adds_epu8(a, b) }
+        }
+        #[inline(always)]
+        fn write_masked(self, mask: u32, new: __m512i, old: __m512i) -> __m512i {
+            // Bit by bit `mask ? new : old`: truth table 0xCA of (mask, new, old).
+            unsafe { _mm512_ternarylogic_epi32::<0xCA>(_mm512_set1_epi32(mask as i32), new, old) }
+        }
+        #[inline(always)]
+        fn cmp(self, func: Cmp, a: __m512, b: __m512) -> __mmask16 {
+            unsafe {
+                macro_rules! cmp {
+                    ($p:ident) => {
+                        _mm512_cmp_ps_mask::<$p>(a, b)
+                    };
+                }
+                match func {
+                    Cmp::Never => 0,
+                    Cmp::Always => 0xFFFF,
+                    Cmp::Less => cmp!(_CMP_LT_OQ),
+                    Cmp::Equal => cmp!(_CMP_EQ_OQ),
+                    Cmp::LessEqual => cmp!(_CMP_LE_OQ),
+                    Cmp::Greater => cmp!(_CMP_GT_OQ),
+                    Cmp::NotEqual => cmp!(_CMP_NEQ_UQ),
+                    Cmp::GreaterEqual => cmp!(_CMP_GE_OQ),
+                }
+            }
+        }
+        #[inline(always)]
+        fn cmp_u(self, func: Cmp, a: __m512i, b: __m512i) -> __mmask16 {
+            unsafe {
+                macro_rules! cmp {
+                    ($p:ident) => {
+                        _mm512_cmp_epu32_mask::<$p>(a, b)
+                    };
+                }
+                match func {
+                    Cmp::Never => 0,
+                    Cmp::Always => 0xFFFF,
+                    Cmp::Less => cmp!(_MM_CMPINT_LT),
+                    Cmp::Equal => cmp!(_MM_CMPINT_EQ),
+                    Cmp::LessEqual => cmp!(_MM_CMPINT_LE),
+                    Cmp::Greater => cmp!(_MM_CMPINT_NLE),
+                    Cmp::NotEqual => cmp!(_MM_CMPINT_NE),
+                    Cmp::GreaterEqual => cmp!(_MM_CMPINT_NLT),
+                }
+            }
+        }
+        #[inline(always)]
+        fn and(self, a: __mmask16, b: __mmask16) -> __mmask16 {
+            a & b
+        }
+        #[inline(always)]
+        fn all(self) -> __mmask16 {
+            0xFFFF
+        }
+        #[inline(always)]
+        fn select(self, m: __mmask16, a: __m512i, b: __m512i) -> __m512i {
+            unsafe { _mm512_mask_blend_epi32(m, b, a) }
+        }
+        #[inline(always)]
+        fn select_f(self, m: __mmask16, a: __m512, b: __m512) -> __m512 {
+            unsafe { _mm512_mask_blend_ps(m, b, a) }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Rng;
+
+    /// How far outside `0..=1` [`Lanes::round_unit`] may be given a value.
+    const UNIT_SLACK: f32 = 1.0 / 512.0;
+
+    const CMPS: [Cmp; 8] = [
+        Cmp::Never,
+        Cmp::Less,
+        Cmp::Equal,
+        Cmp::LessEqual,
+        Cmp::Greater,
+        Cmp::NotEqual,
+        Cmp::GreaterEqual,
+        Cmp::Always,
+    ];
+
+    /// Floats a span meets and hostile ones: NaN, infinities, signed zeros, values next to
+    /// the rounding boundaries of SPEC 1's pack.
+    fn float(rng: &mut Rng) -> f32 {
+        match rng.next() % 8 {
+            0 => f32::from_bits(rng.next()),
+            1 => rng.pick(&[f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, 0.0, 1.0]),
+            2 => {
+                // Just below, at and just above a half step of 1/255.
+                let half = ((rng.next() % 256) as f32 + 0.5) / 255.0;
+                f32::from_bits(half.to_bits() + rng.next() % 3 - 1)
+            }
+            3 => rng.pick(&[0.499_999_97 / 255.0, 0.5 / 255.0, 254.5 / 255.0]),
+            _ => rng.range(-0.1, 1.1),
+        }
+    }
+
+    /// Lane `i` of `v`, through a store.
+    fn f<L: Lanes>(l: L, v: L::F) -> [f32; MAX_LANES] {
+        let mut out = [0.0; MAX_LANES];
+        l.store(&mut out, v);
+        out
+    }
+
+    fn u<L: Lanes>(l: L, v: L::U) -> [u32; MAX_LANES] {
+        let mut out = [0; MAX_LANES];
+        l.store_u(&mut out, v);
+        out
+    }
+
+    fn m<L: Lanes>(l: L, v: L::M) -> [bool; MAX_LANES] {
+        let ones = u(l, l.select(v, l.splat_u(1), l.splat_u(0)));
+        ones.map(|x| x == 1)
+    }
+
+    /// Every operation of `l` against the portable twin, lane by lane, on the same inputs.
+    fn matches_the_portable_twin<L: Lanes>(l: L) {
+        let p = Portable;
+        let mut rng = Rng(0x1A4E_5000_0000_0001 ^ L::N as u64);
+        for round in 0..4000 {
+            let a: [f32; MAX_LANES] = std::array::from_fn(|_| float(&mut rng));
+            let b: [f32; MAX_LANES] = std::array::from_fn(|_| float(&mut rng));
+            let t: [f32; MAX_LANES] = std::array::from_fn(|_| float(&mut rng));
+            let px: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next());
+            let qx: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next());
+            let bytes: [u32; 2 * MAX_LANES] = std::array::from_fn(|_| rng.next() % 256);
+            let idx: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next() % 56);
+            let row: Vec<f32> = (0..1 + rng.next() % 48).map(|_| float(&mut rng)).collect();
+            let row_u: Vec<u32> = (0..1 + rng.next() % 48).map(|_| rng.next()).collect();
+            let mask = rng.next();
+            // Values over the whole domain of `round_unit`, its ends included.
+            let rng_unit: [f32; MAX_LANES] = std::array::from_fn(|_| match rng.next() % 4 {
+                0 => rng.pick(&[-UNIT_SLACK, 1.0 + UNIT_SLACK, -0.0, 1.0]),
+                _ => rng.range(-UNIT_SLACK, 1.0 + UNIT_SLACK),
+            });
+            let func = rng.pick(&CMPS);
+            // Partial loads fill the lanes past the slice with zeros; partial stores write
+            // only the slice.
+            let part = rng.next() as usize % (L::N + 1);
+            let got = f(l, l.load_part(&a[..part]));
+            assert!(
+                (0..L::N).all(|i| got[i].to_bits() == if i < part { a[i] } else { 0.0 }.to_bits())
+            );
+            let got = u(l, l.load_u_part(&px[..part]));
+            assert!((0..L::N).all(|i| got[i] == if i < part { px[i] } else { 0 }));
+            let (mut out, mut out_u) = ([7.0f32; MAX_LANES + 1], [7u32; MAX_LANES + 1]);
+            l.store_part(&mut out[..part], l.load(&a));
+            l.store_u_part(&mut out_u[..part], l.load_u(&px));
+            for i in 0..=MAX_LANES {
+                let (want, want_u) = if i < part { (a[i], px[i]) } else { (7.0, 7) };
+                assert_eq!(
+                    (out[i].to_bits(), out_u[i]),
+                    (want.to_bits(), want_u),
+                    "part {part}"
+                );
+            }
+            for first in (0..MAX_LANES).step_by(Portable::N) {
+                if first >= L::N {
+                    break;
+                }
+                let r = first..first + Portable::N;
+                let (fa, fb, ft) = (
+                    p.load(&a[r.clone()]),
+                    p.load(&b[r.clone()]),
+                    p.load(&t[r.clone()]),
+                );
+                let (la, lb, lt) = (l.load(&a), l.load(&b), l.load(&t));
+                let (pu, qu, bu) = (l.load_u(&px), l.load_u(&qx), l.load_u(&bytes));
+                let (ppu, pqu, pbu) = (
+                    p.load_u(&px[r.clone()]),
+                    p.load_u(&qx[r.clone()]),
+                    p.load_u(&bytes[r.clone()]),
+                );
+                let same_f = |name: &str, got: [f32; MAX_LANES], want: [f32; 8]| {
+                    // Bits, any NaN as one (payloads are not part of the contract).
+                    let bits = |v: &[f32]| {
+                        v.iter()
+                            .map(|x| if x.is_nan() { u32::MAX } else { x.to_bits() })
+                            .collect::<Vec<_>>()
+                    };
+                    assert_eq!(bits(&got[r.clone()]), bits(&want), "{name}, round {round}");
+                };
+                let same_u = |name: &str, got: [u32; MAX_LANES], want: [u32; 8]| {
+                    assert_eq!(got[r.clone()], want, "{name}, round {round}");
+                };
+                same_f("add", f(l, l.add(la, lb)), p.add(fa, fb));
+                same_f("sub", f(l, l.sub(la, lb)), p.sub(fa, fb));
+                same_f("mul", f(l, l.mul(la, lb)), p.mul(fa, fb));
+                same_f("lerp", f(l, l.lerp(la, lb, lt)), p.lerp(fa, fb, ft));
+                same_f(
+                    "gather",
+                    f(l, l.gather(&row, l.load_u(&idx))),
+                    p.gather(&row, p.load_u(&idx[r.clone()])),
+                );
+                same_u(
+                    "gather_u",
+                    u(l, l.gather_u(&row_u, l.load_u(&idx))),
+                    p.gather_u(&row_u, p.load_u(&idx[r.clone()])),
+                );
+                same_f("channel 0", f(l, l.channel::<0>(pu)), p.channel::<0>(ppu));
+                same_f("channel 8", f(l, l.channel::<8>(pu)), p.channel::<8>(ppu));
+                same_f(
+                    "channel 16",
+                    f(l, l.channel::<16>(pu)),
+                    p.channel::<16>(ppu),
+                );
+                same_f(
+                    "channel 24",
+                    f(l, l.channel::<24>(pu)),
+                    p.channel::<24>(ppu),
+                );
+                same_u("round_unorm", u(l, l.round_unorm(la)), p.round_unorm(fa));
+                let near: [f32; MAX_LANES] = std::array::from_fn(|i| {
+                    if a[i].abs() <= 1.0 + UNIT_SLACK {
+                        a[i].abs()
+                    } else {
+                        rng_unit[i]
+                    }
+                });
+                same_u(
+                    "round_unit",
+                    u(l, l.round_unit(l.load(&near))),
+                    p.round_unorm(p.load(&near[r.clone()])),
+                );
+                same_f("unit", f(l, l.unit(bu)), p.unit(pbu));
+                let q = [bu, l.load_u(&bytes[1..]), l.load_u(&bytes[..]), bu];
+                let pq = [
+                    pbu,
+                    p.load_u(&bytes[first + 1..]),
+                    p.load_u(&bytes[r.clone()]),
+                    pbu,
+                ];
+                same_u("pack", u(l, l.pack(q)), p.pack(pq));
+                same_u("adds_u8", u(l, l.adds_u8(pu, qu)), p.adds_u8(ppu, pqu));
+                same_u(
+                    "write_masked",
+                    u(l, l.write_masked(mask, pu, qu)),
+                    p.write_masked(mask, ppu, pqu),
+                );
+                let (cm, pcm) = (l.cmp(func, la, lb), p.cmp(func, fa, fb));
+                assert_eq!(m(l, cm)[r.clone()], pcm, "cmp {func:?}, round {round}");
+                let (cu, pcu) = (
+                    l.cmp_u(func, bu, l.load_u(&bytes[1..])),
+                    p.cmp_u(func, pbu, p.load_u(&bytes[first + 1..])),
+                );
+                assert_eq!(m(l, cu)[r.clone()], pcu, "cmp_u {func:?}, round {round}");
+                let both = l.and(cm, cu);
+                assert_eq!(m(l, both)[r.clone()], p.and(pcm, pcu), "and, round {round}");
+                same_u(
+                    "select",
+                    u(l, l.select(cm, pu, qu)),
+                    p.select(pcm, ppu, pqu),
+                );
+                same_f(
+                    "select_f",
+                    f(l, l.select_f(cm, la, lb)),
+                    p.select_f(pcm, fa, fb),
+                );
+                assert!(m(l, l.all())[..L::N].iter().all(|&x| x));
+            }
+        }
+    }
+
+    /// The portable twin is the scalar reference lane by lane (its definition), and round-trips
+    /// SPEC 1's pack of every byte.
+    #[test]
+    fn spec_1_portable_lanes_pack_every_byte_like_the_reference() {
+        let p = Portable;
+        for byte in 0..=255u32 {
+            let v = p.unit([byte; 8]);
+            assert_eq!(p.round_unorm(v), [byte; 8]);
+            assert_eq!(p.channel::<16>([byte << 16; 8]), v);
+        }
+    }
+
+    #[test]
+    fn every_level_matches_the_portable_twin() {
+        for level in Level::available() {
+            match level {
+                Level::Portable => matches_the_portable_twin(Portable),
+                #[cfg(target_arch = "x86_64")]
+                Level::Avx2(l) => matches_the_portable_twin(l),
+                #[cfg(target_arch = "x86_64")]
+                Level::Avx512(l) => matches_the_portable_twin(l),
+            }
+        }
+    }
+}
