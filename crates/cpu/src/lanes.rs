@@ -95,6 +95,23 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     /// `a * b`.
     fn mul(self, a: Self::F, b: Self::F) -> Self::F;
 
+    /// `a / b`.
+    fn div(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `if a < b { a } else { b }` (`b` when either is NaN).
+    fn min(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `if a > b { a } else { b }` (`b` when either is NaN).
+    fn max(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a.floor()`.
+    fn floor(self, a: Self::F) -> Self::F;
+    /// Signed integers as f32 (`i as f32`).
+    fn int_to_float(self, i: Self::U) -> Self::F;
+    /// Integral f32 in the i32 range as signed integers (`x as i32`).
+    fn float_to_int(self, x: Self::F) -> Self::U;
+    /// Wrapping `a + b` of 32-bit integers.
+    fn add_u(self, a: Self::U, b: Self::U) -> Self::U;
+    /// One bit per lane, lane 0 the lowest.
+    fn bits(self, m: Self::M) -> u32;
+
     /// The sampler's `a + (b - a) * t` (SPEC 5.2), three roundings.
     #[inline(always)]
     fn lerp(self, a: Self::F, b: Self::F, t: Self::F) -> Self::F {
@@ -261,6 +278,38 @@ impl Lanes for Portable {
     #[inline(always)]
     fn mul(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
         std::array::from_fn(|i| a[i] * b[i])
+    }
+    #[inline(always)]
+    fn div(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
+        std::array::from_fn(|i| a[i] / b[i])
+    }
+    #[inline(always)]
+    fn min(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
+        std::array::from_fn(|i| if a[i] < b[i] { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    fn max(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
+        std::array::from_fn(|i| if a[i] > b[i] { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    fn floor(self, a: [f32; 8]) -> [f32; 8] {
+        a.map(f32::floor)
+    }
+    #[inline(always)]
+    fn int_to_float(self, i: [u32; 8]) -> [f32; 8] {
+        i.map(|x| x as i32 as f32)
+    }
+    #[inline(always)]
+    fn float_to_int(self, x: [f32; 8]) -> [u32; 8] {
+        x.map(|v| v as i32 as u32)
+    }
+    #[inline(always)]
+    fn add_u(self, a: [u32; 8], b: [u32; 8]) -> [u32; 8] {
+        std::array::from_fn(|i| a[i].wrapping_add(b[i]))
+    }
+    #[inline(always)]
+    fn bits(self, m: [bool; 8]) -> u32 {
+        m.iter().rev().fold(0, |acc, &b| acc << 1 | u32::from(b))
     }
     #[inline(always)]
     fn channel<const SHIFT: u32>(self, px: [u32; 8]) -> [f32; 8] {
@@ -436,6 +485,38 @@ mod x86 {
         #[inline(always)]
         fn mul(self, a: __m256, b: __m256) -> __m256 {
             unsafe { _mm256_mul_ps(a, b) }
+        }
+        #[inline(always)]
+        fn div(self, a: __m256, b: __m256) -> __m256 {
+            unsafe { _mm256_div_ps(a, b) }
+        }
+        #[inline(always)]
+        fn min(self, a: __m256, b: __m256) -> __m256 {
+            unsafe { _mm256_min_ps(a, b) }
+        }
+        #[inline(always)]
+        fn max(self, a: __m256, b: __m256) -> __m256 {
+            unsafe { _mm256_max_ps(a, b) }
+        }
+        #[inline(always)]
+        fn floor(self, a: __m256) -> __m256 {
+            unsafe { _mm256_floor_ps(a) }
+        }
+        #[inline(always)]
+        fn int_to_float(self, i: __m256i) -> __m256 {
+            unsafe { _mm256_cvtepi32_ps(i) }
+        }
+        #[inline(always)]
+        fn float_to_int(self, x: __m256) -> __m256i {
+            unsafe { _mm256_cvttps_epi32(x) }
+        }
+        #[inline(always)]
+        fn add_u(self, a: __m256i, b: __m256i) -> __m256i {
+            unsafe { _mm256_add_epi32(a, b) }
+        }
+        #[inline(always)]
+        fn bits(self, m: __m256i) -> u32 {
+            unsafe { _mm256_movemask_ps(_mm256_castsi256_ps(m)) as u32 }
         }
         #[inline(always)]
         fn channel<const SHIFT: u32>(self, px: __m256i) -> __m256 {
@@ -670,6 +751,38 @@ mod x86 {
         #[inline(always)]
         fn mul(self, a: __m512, b: __m512) -> __m512 {
             unsafe { _mm512_mul_ps(a, b) }
+        }
+        #[inline(always)]
+        fn div(self, a: __m512, b: __m512) -> __m512 {
+            unsafe { _mm512_div_ps(a, b) }
+        }
+        #[inline(always)]
+        fn min(self, a: __m512, b: __m512) -> __m512 {
+            unsafe { _mm512_min_ps(a, b) }
+        }
+        #[inline(always)]
+        fn max(self, a: __m512, b: __m512) -> __m512 {
+            unsafe { _mm512_max_ps(a, b) }
+        }
+        #[inline(always)]
+        fn floor(self, a: __m512) -> __m512 {
+            unsafe { _mm512_roundscale_ps::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(a) }
+        }
+        #[inline(always)]
+        fn int_to_float(self, i: __m512i) -> __m512 {
+            unsafe { _mm512_cvtepi32_ps(i) }
+        }
+        #[inline(always)]
+        fn float_to_int(self, x: __m512) -> __m512i {
+            unsafe { _mm512_cvttps_epi32(x) }
+        }
+        #[inline(always)]
+        fn add_u(self, a: __m512i, b: __m512i) -> __m512i {
+            unsafe { _mm512_add_epi32(a, b) }
+        }
+        #[inline(always)]
+        fn bits(self, m: __mmask16) -> u32 {
+            u32::from(m)
         }
         #[inline(always)]
         fn channel<const SHIFT: u32>(self, px: __m512i) -> __m512 {
@@ -915,6 +1028,23 @@ mod tests {
                 same_f("sub", f(l, l.sub(la, lb)), p.sub(fa, fb));
                 same_f("mul", f(l, l.mul(la, lb)), p.mul(fa, fb));
                 same_f("lerp", f(l, l.lerp(la, lb, lt)), p.lerp(fa, fb, ft));
+                same_f("div", f(l, l.div(la, lb)), p.div(fa, fb));
+                same_f("min", f(l, l.min(la, lb)), p.min(fa, fb));
+                same_f("max", f(l, l.max(la, lb)), p.max(fa, fb));
+                same_f("floor", f(l, l.floor(la)), p.floor(fa));
+                same_f(
+                    "int_to_float",
+                    f(l, l.int_to_float(pu)),
+                    p.int_to_float(ppu),
+                );
+                let small: [f32; MAX_LANES] = std::array::from_fn(|i| (a[i] * 1000.0).floor());
+                let small = small.map(|x| if x.abs() < 1e9 { x } else { 0.0 });
+                same_u(
+                    "float_to_int",
+                    u(l, l.float_to_int(l.load(&small))),
+                    p.float_to_int(p.load(&small[r.clone()])),
+                );
+                same_u("add_u", u(l, l.add_u(pu, qu)), p.add_u(ppu, pqu));
                 same_f(
                     "gather",
                     f(l, l.gather(&row, l.load_u(&idx))),
@@ -972,6 +1102,13 @@ mod tests {
                     p.cmp_u(func, pbu, p.load_u(&bytes[first + 1..])),
                 );
                 assert_eq!(m(l, cu)[r.clone()], pcu, "cmp_u {func:?}, round {round}");
+                let want = pcm
+                    .iter()
+                    .enumerate()
+                    .filter(|x| *x.1)
+                    .map(|(i, _)| 1 << i)
+                    .sum::<u32>();
+                assert_eq!(l.bits(cm) >> first & 0xFF, want, "bits, round {round}");
                 let both = l.and(cm, cu);
                 assert_eq!(m(l, both)[r.clone()], p.and(pcm, pcu), "and, round {round}");
                 same_u(

@@ -20,10 +20,10 @@
 #![allow(unsafe_code)]
 
 use pointillist_core::color::unpack;
-use pointillist_core::point::sprite_coord;
-use pointillist_core::texture::{Level as TextureLevel, SamplerDesc, fetch};
+use pointillist_core::states::Cmp;
+use pointillist_core::texture::{COORD_LIMIT, Level as TextureLevel, SamplerDesc, fetch};
 
-use super::{Band, Blender, DrawContext, ModulateAlpha, SpriteView, rows, texel_index};
+use super::{Band, Blender, DrawContext, ModulateAlpha, SpriteView, rows};
 use crate::lanes::{Lanes, Level, MAX_LANES, Portable, channels};
 
 /// A level's texels as four planes of f32 (blue, green, red, alpha: SPEC 1's unpack), each
@@ -72,12 +72,6 @@ impl PlanarLevel {
         }
     }
 
-    /// Plane `c`'s row `y` (margin included).
-    #[inline(always)]
-    fn row(&self, c: usize, y: usize) -> &[f32] {
-        &self.texels[c * self.plane + y * self.pitch..][..self.pitch]
-    }
-
     /// Plane `c` from entry `x` of row `y` to the end of the texels.
     #[inline(always)]
     fn from(&self, c: usize, y: usize, x: usize) -> &[f32] {
@@ -88,13 +82,17 @@ impl PlanarLevel {
 /// A sprite's working memory, reused from sprite to sprite.
 #[derive(Default)]
 pub(super) struct SpanScratch {
-    /// Per covered column (padded to whole spans): the plane entries of its two texels and
-    /// the weight of the second (SPEC 5.2).
-    x0: Vec<u32>,
-    x1: Vec<u32>,
+    /// Per covered column (padded to whole spans): the plane entry of its first texel (the
+    /// second is the next) and the weight of the second (SPEC 5.2).
+    x: Vec<u32>,
     fx: Vec<f32>,
-    /// Per span: its columns read consecutive entries, so the texels load without a gather.
+    /// Per span of columns: they read consecutive entries, so the texels load without a
+    /// gather.
     consecutive: Vec<bool>,
+    /// Per covered row in the band: the plane row of its first texel row, and the weight of
+    /// the second.
+    y: Vec<u32>,
+    fy: Vec<f32>,
     /// Two plane rows' horizontal lerps at the columns, span by span, channel-planar.
     rows: [Vec<f32>; 2],
     /// The plane row each of `rows` holds; `usize::MAX` for none.
@@ -104,7 +102,7 @@ pub(super) struct SpanScratch {
 /// The states a span applies after the shading, resolved per draw.
 #[derive(Copy, Clone)]
 struct Tests {
-    alpha: Option<(pointillist_core::states::Cmp, u8)>,
+    alpha: Option<(Cmp, u8)>,
     depth: Option<pointillist_core::pixel::DepthSetup>,
     mask: u32,
 }
@@ -180,12 +178,77 @@ fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool>(
     fill_with::<L, B, LINEAR>(l, ctx, b, p, band, s, alpha, texels)
 }
 
-/// The texel index along an axis of `n` texels and the weight of the next (SPEC 5.2), when
-/// both lie within a [`PlanarLevel`]'s margin.
+/// Lane numbers, for [`axis`].
+const LANE: [u32; MAX_LANES] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+
+/// The plane entries and weights of the `count` pixels from `first` along an axis of a sprite
+/// with near edge `edge` and side `size` on `n` texels (SPEC 4.3's `sprite_coord`, then SPEC
+/// 5.2's `linear_texel`, or `point_texel` and weight 0), N pixels at a time into `entries`
+/// (index + 1) and `weights`, padded to whole spans; `consecutive`, if given, gets per span
+/// whether its pixels read consecutive entries. False when an index leaves the margin
+/// (`-1..=n - LINEAR`).
 #[inline(always)]
-fn index<const LINEAR: bool>(coord: f32, n: u32) -> Option<(usize, f32)> {
-    let (k, w) = texel_index::<LINEAR>(coord, n);
-    (k >= -1 && k + i64::from(LINEAR) <= i64::from(n)).then_some(((k + 1) as usize, w))
+#[allow(clippy::too_many_arguments)]
+fn axis<L: Lanes, const LINEAR: bool>(
+    l: L,
+    first: i32,
+    count: usize,
+    (edge, size, n): (f32, f32, u32),
+    entries: &mut Vec<u32>,
+    weights: &mut Vec<f32>,
+    mut consecutive: Option<&mut Vec<bool>>,
+) -> bool {
+    let spans = count.div_ceil(L::N);
+    entries.resize(spans * L::N, 0);
+    weights.resize(spans * L::N, 0.0);
+    if let Some(c) = consecutive.as_deref_mut() {
+        c.clear();
+    }
+    let lane = l.load_u(&LANE);
+    let (edge, size, texels) = (l.splat(edge), l.splat(size), l.splat(n as f32));
+    let (limit, zero) = (l.splat(COORD_LIMIT), l.splat(0.0));
+    let (lowest, highest) = (l.splat(-1.0), l.splat((n - u32::from(LINEAR)) as f32));
+    let one = l.splat_u(1);
+    for (span, (e, w)) in entries
+        .chunks_exact_mut(L::N)
+        .zip(weights.chunks_exact_mut(L::N))
+        .enumerate()
+    {
+        let start = first.wrapping_add((span * L::N) as i32);
+        let i = l.add_u(l.splat_u(start as u32), lane);
+        // sprite_coord: (i - edge) / size.
+        let u = l.div(l.sub(l.int_to_float(i), edge), size);
+        // sanitize: NaN counts as 0, huge values are clamped.
+        let clamped = l.max(l.min(u, limit), l.splat(-COORD_LIMIT));
+        let u = l.select_f(l.cmp(Cmp::Equal, u, u), clamped, zero);
+        let x = if LINEAR {
+            l.sub(l.mul(u, texels), l.splat(0.5))
+        } else {
+            l.mul(u, texels)
+        };
+        let k = l.floor(x);
+        let inside = l.and(
+            l.cmp(Cmp::GreaterEqual, k, lowest),
+            l.cmp(Cmp::LessEqual, k, highest),
+        );
+        let valid = (count - span * L::N).min(L::N);
+        let lanes = if valid == 32 {
+            u32::MAX
+        } else {
+            (1u32 << valid) - 1
+        };
+        if l.bits(inside) & lanes != lanes {
+            return false;
+        }
+        let entry = l.add_u(l.float_to_int(k), one);
+        l.store_u(e, entry);
+        l.store(w, if LINEAR { l.sub(x, k) } else { zero });
+        if let Some(c) = consecutive.as_deref_mut() {
+            let run = l.add_u(l.splat_u(e[0]), lane);
+            c.push(l.bits(l.cmp_u(Cmp::Equal, entry, run)) & lanes == lanes);
+        }
+    }
+    true
 }
 
 /// [`fill`] on lanes `L` with linear (`LINEAR`) or point filtering.
@@ -206,38 +269,25 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
     if rows.is_empty() {
         return true;
     }
-    // Rows are monotonic in j, so the first and the last decide for all.
-    let row = |j: i32| index::<LINEAR>(sprite_coord(j, p.top, p.size), texels.height);
-    if row(rows.start).is_none() || row(rows.end - 1).is_none() {
-        return false;
-    }
     let cols = (p.rect.x1 - p.rect.x0) as usize;
     let spans = cols.div_ceil(n);
     let SpanScratch {
-        x0,
-        x1,
+        x,
         fx,
         consecutive,
+        y,
+        fy,
         rows: filtered,
         tags,
     } = s;
-    x0.clear();
-    x1.clear();
-    fx.clear();
-    for i in p.rect.x0..p.rect.x1 {
-        let Some((x, w)) = index::<LINEAR>(sprite_coord(i, p.left, p.size), texels.width) else {
-            return false;
-        };
-        x0.push(x as u32);
-        x1.push((x + usize::from(LINEAR)) as u32);
-        fx.push(w);
+    let columns = (p.left, p.size, texels.width);
+    if !axis::<L, LINEAR>(l, p.rect.x0, cols, columns, x, fx, Some(consecutive)) {
+        return false;
     }
-    consecutive.clear();
-    consecutive.extend(x0.chunks(n).map(|c| c.windows(2).all(|w| w[1] == w[0] + 1)));
-    for v in [&mut *x0, &mut *x1] {
-        v.resize(spans * n, 0);
+    let lines = (p.top, p.size, texels.height);
+    if !axis::<L, LINEAR>(l, rows.start, rows.len(), lines, y, fy, None) {
+        return false;
     }
-    fx.resize(spans * n, 0.0);
     *tags = [usize::MAX; 2];
     for r in filtered.iter_mut() {
         r.resize(spans * 4 * n, 0.0);
@@ -264,34 +314,36 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
         mask: ctx.pixel.write_mask,
     };
 
-    for j in rows {
-        let (y, fy) = row(j).expect("checked at the first and last row");
-        // The horizontal lerps of plane rows y and y + 1 (y alone when point sampling).
-        if tags[0] != y {
-            if tags[1] == y {
+    for (j, (&row, &weight)) in rows.zip(y.iter().zip(fy.iter())) {
+        let row = row as usize;
+        // The horizontal lerps of plane rows `row` and `row + 1` (`row` alone when point
+        // sampling).
+        if tags[0] != row {
+            if tags[1] == row {
                 filtered.swap(0, 1);
                 tags.swap(0, 1);
             } else {
-                filter_row::<L, LINEAR>(l, texels, y, x0, x1, fx, consecutive, &mut filtered[0]);
-                tags[0] = y;
+                filter_row::<L, LINEAR>(l, texels, row, x, fx, consecutive, &mut filtered[0]);
+                tags[0] = row;
             }
         }
-        if LINEAR && tags[1] != y + 1 {
-            filter_row::<L, LINEAR>(l, texels, y + 1, x0, x1, fx, consecutive, &mut filtered[1]);
-            tags[1] = y + 1;
+        if LINEAR && tags[1] != row + 1 {
+            filter_row::<L, LINEAR>(l, texels, row + 1, x, fx, consecutive, &mut filtered[1]);
+            tags[1] = row + 1;
         }
-        let fy = l.splat(fy);
+        let weight = l.splat(weight);
         let at = (j - band.y0) as usize * band.width + p.rect.x0 as usize;
         let color = &mut band.color[at..at + cols];
         let depth = &mut band.depth[at..at + cols];
-        for span in 0..spans {
-            let h = span * 4 * n;
+        let [top, bottom] = &*filtered;
+        let lerped = top.chunks_exact(4 * n).zip(bottom.chunks_exact(4 * n));
+        for (span, (top, bottom)) in lerped.enumerate() {
             let texel: [L::F; 4] = channels!(|c| {
-                let top = l.load(&filtered[0][h + c * n..]);
+                let t = l.load(&top[c * n..]);
                 if LINEAR {
-                    l.lerp(top, l.load(&filtered[1][h + c * n..]), fy)
+                    l.lerp(t, l.load(&bottom[c * n..]), weight)
                 } else {
-                    top
+                    t
                 }
             });
             let mut shaded: [L::F; 4] = channels!(|c| l.mul(texel[c], m[c]));
@@ -302,43 +354,27 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
             let t = channels!(|c| l.round_unit(shaded[c]));
             let first = span * n;
             if first + n <= cols {
-                pixels(
-                    l,
-                    tests,
-                    b,
-                    t,
-                    p.z,
-                    &mut color[first..],
-                    &mut depth[first..],
-                );
-                continue;
+                let (c, z) = (&mut color[first..first + n], &mut depth[first..first + n]);
+                pixels(l, tests, b, t, p.z, c, z);
+            } else {
+                // The last, partial span.
+                let (c, z) = (&mut color[first..], &mut depth[first..]);
+                pixels_part(l, tests, b, t, p.z, c, z);
             }
-            // The last, partial span.
-            pixels_part(
-                l,
-                tests,
-                b,
-                t,
-                p.z,
-                &mut color[first..],
-                &mut depth[first..],
-            );
         }
     }
     true
 }
 
-/// The horizontal lerps of plane row `y` at the columns `x0`, `x1`, `fx` (the first half of
-/// SPEC 5.2's bilinear filter; the texel at `x0` when point sampling), into `out` span by span,
-/// channel-planar.
+/// The horizontal lerps of plane row `y` at the columns' entries `x` (and `x + 1`) with
+/// weights `fx` (the first half of SPEC 5.2's bilinear filter; the texel at `x` when point
+/// sampling), into `out` span by span, channel-planar.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn filter_row<L: Lanes, const LINEAR: bool>(
     l: L,
     texels: &PlanarLevel,
     y: usize,
-    x0: &[u32],
-    x1: &[u32],
+    x: &[u32],
     fx: &[f32],
     consecutive: &[bool],
     out: &mut [f32],
@@ -346,31 +382,31 @@ fn filter_row<L: Lanes, const LINEAR: bool>(
     let n = L::N;
     let in_registers = texels.pitch <= L::REGISTER_GATHER;
     let packed = &texels.packed[y * texels.pitch..][..texels.pitch];
-    for (span, &consecutive) in consecutive.iter().enumerate() {
-        let first = span * n;
-        let w = l.load(&fx[first..]);
-        let (i0, i1) = (l.load_u(&x0[first..]), l.load_u(&x1[first..]));
+    let planes: [&[f32]; 4] = channels!(|c| texels.from(c, y, 0));
+    let one = l.splat_u(1);
+    let spans = x.chunks_exact(n).zip(fx.chunks_exact(n));
+    for (((x, fx), &consecutive), out) in spans.zip(consecutive).zip(out.chunks_exact_mut(4 * n)) {
+        let w = l.load(fx);
+        let i0 = l.load_u(x);
+        let i1 = l.add_u(i0, one);
         // Rows too long to gather from registers: one gather of packed texels per side.
         let (p0, p1) = if consecutive || in_registers {
             (i0, i1)
         } else {
             (l.gather_u(packed, i0), l.gather_u(packed, i1))
         };
-        for c in 0..4 {
+        for (c, plane) in planes.iter().enumerate() {
             let (a, b) = if consecutive {
-                let x = x0[first] as usize;
-                (
-                    l.load(texels.from(c, y, x)),
-                    l.load(texels.from(c, y, x + 1)),
-                )
+                let at = x[0] as usize;
+                (l.load(&plane[at..]), l.load(&plane[at + 1..]))
             } else if in_registers {
-                let row = texels.row(c, y);
+                let row = &plane[..texels.pitch];
                 (l.gather(row, i0), l.gather(row, i1))
             } else {
                 (channel(l, p0, c), channel(l, p1, c))
             };
             let h = if LINEAR { l.lerp(a, b, w) } else { a };
-            l.store(&mut out[(span * 4 + c) * n..], h);
+            l.store(&mut out[c * n..], h);
         }
     }
 }
@@ -466,4 +502,99 @@ fn span_pixels<L: Lanes, B: Blender>(
         new = l.select(pass, new, old);
     }
     (new, depth)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_rng::Rng;
+    use pointillist_core::point::sprite_coord;
+
+    /// [`axis`] on `l` against the per-pixel fills' indices (core's `sprite_coord`, then
+    /// `linear_texel` or `point_texel` through [`super::super::texel_index`]).
+    fn axis_matches_the_per_pixel_indices<L: Lanes>(l: L) {
+        let mut rng = Rng(0xA515_0000_0000_0001 ^ L::N as u64);
+        let (mut entries, mut weights, mut consecutive) = (Vec::new(), Vec::new(), Vec::new());
+        for round in 0..3000 {
+            let n = rng.pick(&[1, 2, 5, 16, 64, 100]);
+            let size = match rng.next() % 3 {
+                0 => n as f32,
+                _ => rng.range(0.25, 90.0),
+            };
+            let edge = match rng.next() % 3 {
+                0 => (rng.next() % 2000) as f32 - 100.5,
+                _ => rng.range(-100.0, 2000.0),
+            };
+            // The covered pixels, sometimes one more on either side (outside the square).
+            let first = edge.ceil() as i32 - (rng.next() % 3) as i32 + 1;
+            // Hostile edges and sizes: the reference's sanitizing of NaN and huge coordinates.
+            let (edge, size) = match rng.next() % 16 {
+                0 => (f32::NAN, size),
+                1 => (edge, f32::NAN),
+                2 => (edge, 1e-30),
+                3 => (f32::INFINITY, size),
+                _ => (edge, size),
+            };
+            let count = 1 + (size.ceil() as usize + rng.next() as usize % 3);
+            for linear in [false, true] {
+                let ok = if linear {
+                    axis::<L, true>(
+                        l,
+                        first,
+                        count,
+                        (edge, size, n),
+                        &mut entries,
+                        &mut weights,
+                        Some(&mut consecutive),
+                    )
+                } else {
+                    axis::<L, false>(
+                        l,
+                        first,
+                        count,
+                        (edge, size, n),
+                        &mut entries,
+                        &mut weights,
+                        Some(&mut consecutive),
+                    )
+                };
+                let reference: Option<Vec<(u32, f32)>> = (0..count)
+                    .map(|k| {
+                        let u = sprite_coord(first + k as i32, edge, size);
+                        let (k, w) = if linear {
+                            super::super::texel_index::<true>(u, n)
+                        } else {
+                            super::super::texel_index::<false>(u, n)
+                        };
+                        (k >= -1 && k + i64::from(linear) <= i64::from(n))
+                            .then_some(((k + 1) as u32, w))
+                    })
+                    .collect();
+                let setup = (round, n, size, edge, first, count, linear);
+                assert_eq!(ok, reference.is_some(), "{setup:?}");
+                let Some(reference) = reference else { continue };
+                for (k, &(e, w)) in reference.iter().enumerate() {
+                    assert_eq!(entries[k], e, "{setup:?} pixel {k}");
+                    assert_eq!(weights[k].to_bits(), w.to_bits(), "{setup:?} pixel {k}");
+                }
+                for (span, runs) in reference.chunks(L::N).enumerate() {
+                    let run = runs.windows(2).all(|w| w[1].0 == w[0].0 + 1);
+                    assert_eq!(consecutive[span], run, "{setup:?} span {span}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn spec_5_2_span_indices_match_the_per_pixel_fills_on_every_level() {
+        for level in Level::available() {
+            match level {
+                Level::Portable => axis_matches_the_per_pixel_indices(Portable),
+                #[cfg(target_arch = "x86_64")]
+                Level::Avx2(l) => axis_matches_the_per_pixel_indices(l),
+                #[cfg(target_arch = "x86_64")]
+                Level::Avx512(l) => axis_matches_the_per_pixel_indices(l),
+            }
+        }
+    }
 }
