@@ -640,15 +640,22 @@ mod x86 {
         }
     }
 
-    /// Sixteen lanes of AVX-512 (F and BW); exists only where the CPU has both.
+    /// Sixteen lanes of AVX-512 (F and BW); exists only where the CPU has both, and AVX2.
     #[derive(Copy, Clone, Debug)]
     pub(crate) struct Avx512(());
 
     impl Avx512 {
-        /// The level, when the CPU has AVX-512 F and BW.
+        /// The level, when the CPU has AVX-512 F and BW, and AVX2.
         pub(crate) fn new() -> Option<Avx512> {
-            (is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512bw"))
-                .then_some(Avx512(()))
+            (is_x86_feature_detected!("avx512f")
+                && is_x86_feature_detected!("avx512bw")
+                && is_x86_feature_detected!("avx2"))
+            .then_some(Avx512(()))
+        }
+
+        /// The eight lanes of the same CPU, for spans too narrow to fill sixteen.
+        pub(crate) fn narrow(self) -> Avx2 {
+            Avx2(())
         }
     }
 
