@@ -126,8 +126,8 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     /// saturation cannot change the result (`v * 255` is within 255/512 of `0..=255`, under
     /// the half step): the products and lerps of unpacked bytes the span fills quantize.
     fn round_unit(self, v: Self::F) -> Self::U;
-    /// `t * (1 / 255)` for bytes `t`: the unpack of a quantized channel.
-    fn unit(self, t: Self::U) -> Self::F;
+    /// [`Lanes::round_unit`] as f32 (the bytes are exact).
+    fn round_unit_f(self, v: Self::F) -> Self::F;
     /// D3DCOLORs from byte lanes (blue, green, red, alpha).
     fn pack(self, c: [Self::U; 4]) -> Self::U;
     /// The per-byte saturating sum (SPEC 5.5's ONE, ONE, ADD).
@@ -324,8 +324,8 @@ impl Lanes for Portable {
         self.round_unorm(v)
     }
     #[inline(always)]
-    fn unit(self, t: [u32; 8]) -> [f32; 8] {
-        t.map(|x| unorm8_to_f32(x as u8))
+    fn round_unit_f(self, v: [f32; 8]) -> [f32; 8] {
+        self.round_unorm(v).map(|t| t as f32)
     }
     #[inline(always)]
     fn pack(self, [b, g, r, a]: [[u32; 8]; 4]) -> [u32; 8] {
@@ -559,8 +559,15 @@ mod x86 {
             }
         }
         #[inline(always)]
-        fn unit(self, t: __m256i) -> __m256 {
-            unsafe { _mm256_mul_ps(_mm256_cvtepi32_ps(t), _mm256_set1_ps(1.0 / 255.0)) }
+        fn round_unit_f(self, v: __m256) -> __m256 {
+            unsafe {
+                // `round_unit` in floats: truncation, then one more where the fraction is at
+                // least a half.
+                let x = _mm256_mul_ps(v, _mm256_set1_ps(255.0));
+                let t = _mm256_round_ps::<{ _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC }>(x);
+                let up = _mm256_cmp_ps::<_CMP_GE_OQ>(_mm256_sub_ps(x, t), _mm256_set1_ps(0.5));
+                _mm256_add_ps(t, _mm256_and_ps(up, _mm256_set1_ps(1.0)))
+            }
         }
         #[inline(always)]
         fn pack(self, [b, g, r, a]: [__m256i; 4]) -> __m256i {
@@ -827,8 +834,13 @@ mod x86 {
             }
         }
         #[inline(always)]
-        fn unit(self, t: __m512i) -> __m512 {
-            unsafe { _mm512_mul_ps(_mm512_cvtepi32_ps(t), _mm512_set1_ps(1.0 / 255.0)) }
+        fn round_unit_f(self, v: __m512) -> __m512 {
+            unsafe {
+                // `round_unit`, then the floor in floats instead of a conversion.
+                let x = _mm512_mul_ps(v, _mm512_set1_ps(255.0));
+                let s = _mm512_add_round_ps::<DOWN>(x, _mm512_set1_ps(0.5));
+                _mm512_roundscale_ps::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(s)
+            }
         }
         #[inline(always)]
         fn pack(self, [b, g, r, a]: [__m512i; 4]) -> __m512i {
@@ -1087,7 +1099,11 @@ mod tests {
                     u(l, l.round_unit(l.load(&near))),
                     p.round_unorm(p.load(&near[r.clone()])),
                 );
-                same_f("unit", f(l, l.unit(bu)), p.unit(pbu));
+                same_f(
+                    "round_unit_f",
+                    f(l, l.round_unit_f(l.load(&near))),
+                    p.round_unorm(p.load(&near[r.clone()])).map(|t| t as f32),
+                );
                 let q = [bu, l.load_u(&bytes[1..]), l.load_u(&bytes[..]), bu];
                 let pq = [
                     pbu,
@@ -1139,9 +1155,11 @@ mod tests {
     fn spec_1_portable_lanes_pack_every_byte_like_the_reference() {
         let p = Portable;
         for byte in 0..=255u32 {
-            let v = p.unit([byte; 8]);
+            let v = p.channel::<16>([byte << 16; 8]);
+            assert_eq!(v, [unorm8_to_f32(byte as u8); 8]);
             assert_eq!(p.round_unorm(v), [byte; 8]);
-            assert_eq!(p.channel::<16>([byte << 16; 8]), v);
+            assert_eq!(p.round_unit(v), [byte; 8]);
+            assert_eq!(p.round_unit_f(v), [byte as f32; 8]);
         }
     }
 

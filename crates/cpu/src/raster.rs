@@ -66,12 +66,13 @@ trait Blender: Sync {
         std::array::from_fn(|i| self.blend(src[i], dst[i]))
     }
 
-    /// [`Blender::blend`] of a span of N pixels: `t` the source's quantized channels (blue,
-    /// green, red, alpha bytes) over `dst`. By default pixel by pixel.
+    /// [`Blender::blend`] of a span of N pixels over `dst`, the source being the shaded
+    /// channels (blue, green, red, alpha) before their quantization to 8 bits (SPEC 1), within
+    /// [`Lanes::round_unit`]'s domain. By default pixel by pixel.
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], dst: L::U) -> L::U {
+    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
         let (mut src, mut old) = ([0u32; MAX_LANES], [0u32; MAX_LANES]);
-        l.store_u(&mut src, l.pack(t));
+        l.store_u(&mut src, quantize(l, shaded));
         l.store_u(&mut old, dst);
         for (s, &d) in src.iter_mut().zip(&old).take(L::N) {
             *s = self.blend(*s, d);
@@ -92,6 +93,13 @@ trait Blender: Sync {
     }
 }
 
+/// SPEC 1's packing of shaded channels (blue, green, red, alpha) within [`Lanes::round_unit`]'s
+/// domain into D3DCOLORs.
+#[inline(always)]
+fn quantize<L: Lanes>(l: L, shaded: [L::F; 4]) -> L::U {
+    l.pack(channels!(|c| l.round_unit(shaded[c])))
+}
+
 /// ALPHABLENDENABLE false: the source replaces the target.
 struct Replace;
 impl Blender for Replace {
@@ -101,8 +109,8 @@ impl Blender for Replace {
     }
 
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], _dst: L::U) -> L::U {
-        l.pack(t)
+    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], _dst: L::U) -> L::U {
+        quantize(l, shaded)
     }
 }
 
@@ -121,8 +129,8 @@ impl Blender for Additive {
     }
 
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], dst: L::U) -> L::U {
-        l.adds_u8(l.pack(t), dst)
+    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
+        l.adds_u8(quantize(l, shaded), dst)
     }
 
     #[inline(always)]
@@ -158,8 +166,10 @@ impl Blender for SourceAlpha {
     }
 
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, t: [L::U; 4], dst: L::U) -> L::U {
-        let s = channels!(|c| l.unit(t[c]));
+    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
+        // The source quantized (SPEC 1) and unpacked again, without the packing between.
+        let unit = l.splat(1.0 / 255.0);
+        let s = channels!(|c| l.mul(l.round_unit_f(shaded[c]), unit));
         let d = [
             l.channel::<0>(dst),
             l.channel::<8>(dst),

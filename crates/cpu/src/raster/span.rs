@@ -354,15 +354,14 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
                 shaded[3] = a;
             }
             // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
-            let t = channels!(|c| l.round_unit(shaded[c]));
             let first = span * n;
             if first + n <= cols {
                 let (c, z) = (&mut color[first..first + n], &mut depth[first..first + n]);
-                pixels(l, tests, b, t, p.z, c, z);
+                pixels(l, tests, b, shaded, p.z, c, z);
             } else {
                 // The last, partial span.
                 let (c, z) = (&mut color[first..], &mut depth[first..]);
-                pixels_part(l, tests, b, t, p.z, c, z);
+                pixels_part(l, tests, b, shaded, p.z, c, z);
             }
         }
     }
@@ -432,7 +431,7 @@ fn pixels<L: Lanes, B: Blender>(
     l: L,
     tests: Tests,
     b: &B,
-    t: [L::U; 4],
+    shaded: [L::F; 4],
     z: f32,
     color: &mut [u32],
     depth: &mut [f32],
@@ -442,7 +441,7 @@ fn pixels<L: Lanes, B: Blender>(
     } else {
         None
     };
-    let (new, z) = span_pixels(l, tests, b, t, z, l.load_u(color), stored);
+    let (new, z) = span_pixels(l, tests, b, shaded, z, l.load_u(color), stored);
     l.store_u(color, new);
     if let Some(z) = z {
         l.store(depth, z);
@@ -455,7 +454,7 @@ fn pixels_part<L: Lanes, B: Blender>(
     l: L,
     tests: Tests,
     b: &B,
-    t: [L::U; 4],
+    shaded: [L::F; 4],
     z: f32,
     color: &mut [u32],
     depth: &mut [f32],
@@ -465,7 +464,7 @@ fn pixels_part<L: Lanes, B: Blender>(
     } else {
         None
     };
-    let (new, z) = span_pixels(l, tests, b, t, z, l.load_u_part(color), stored);
+    let (new, z) = span_pixels(l, tests, b, shaded, z, l.load_u_part(color), stored);
     l.store_u_part(color, new);
     if let Some(z) = z {
         l.store_part(depth, z);
@@ -479,14 +478,15 @@ fn span_pixels<L: Lanes, B: Blender>(
     l: L,
     tests: Tests,
     b: &B,
-    t: [L::U; 4],
+    shaded: [L::F; 4],
     z: f32,
     old: L::U,
     stored: Option<L::F>,
 ) -> (L::U, Option<L::F>) {
     let mut pass = None;
     if let Some((func, reference)) = tests.alpha {
-        pass = Some(l.cmp_u(func, t[3], l.splat_u(u32::from(reference))));
+        let alpha = l.round_unit(shaded[3]);
+        pass = Some(l.cmp_u(func, alpha, l.splat_u(u32::from(reference))));
     }
     let mut depth = None;
     if let (Some(d), Some(stored)) = (tests.depth, stored) {
@@ -497,7 +497,7 @@ fn span_pixels<L: Lanes, B: Blender>(
         }
         pass = Some(passes);
     }
-    let mut new = b.blend_lanes(l, t, old);
+    let mut new = b.blend_lanes(l, shaded, old);
     if tests.mask != u32::MAX {
         new = l.write_masked(tests.mask, new, old);
     }
