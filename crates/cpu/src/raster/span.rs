@@ -7,10 +7,11 @@
 //! every side that holds what the address mode reads there ([`PlanarLevel`]). The texel indices
 //! of a sprite's covered pixels lie within that margin (its coordinates are in `0..=1`), so
 //! every pixel reads its texels directly: column `k` of the sampler is entry `k + 1` of a plane
-//! row, row `l` is plane row `l + 1`. The horizontal lerps of a plane row at the sprite's columns
-//! are computed once and kept while consecutive pixel rows read that row (from consecutive
-//! entries with two loads, or gathered); each pixel row is then the vertical lerp, the
-//! modulate, the 8-bit quantization, the alpha and depth tests, the blend and the channel mask.
+//! row, row `l` is plane row `l + 1`. A sprite is filled span of columns by span of columns,
+//! each down the rows: the horizontal lerps of the two plane rows a pixel row reads (from
+//! consecutive entries with two loads, or gathered) stay in registers while the next pixel rows
+//! read them, and each pixel is then the vertical lerp, the modulate, the 8-bit quantization,
+//! the alpha and depth tests, the blend and the channel mask.
 //! A sprite whose indices leave the margin (edges snapped outside the square) is left to the
 //! per-pixel fill.
 //!
@@ -94,10 +95,6 @@ pub(super) struct SpanScratch {
     /// the second.
     y: Vec<u32>,
     fy: Vec<f32>,
-    /// Two plane rows' horizontal lerps at the columns, span by span, channel-planar.
-    rows: [Vec<f32>; 2],
-    /// The plane row each of `rows` holds; `usize::MAX` for none.
-    tags: [usize; 2],
 }
 
 /// The states a span applies after the shading, resolved per draw.
@@ -254,7 +251,9 @@ fn axis<L: Lanes, const LINEAR: bool>(
     true
 }
 
-/// [`fill`] on lanes `L` with linear (`LINEAR`) or point filtering.
+/// [`fill`] on lanes `L` with linear (`LINEAR`) or point filtering: span by span of columns,
+/// down the rows, the two filtered texel rows a pixel row reads kept in registers from one
+/// row to the next.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
@@ -273,15 +272,12 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
         return true;
     }
     let cols = (p.rect.x1 - p.rect.x0) as usize;
-    let spans = cols.div_ceil(n);
     let SpanScratch {
         x,
         fx,
         consecutive,
         y,
         fy,
-        rows: filtered,
-        tags,
     } = s;
     let columns = (p.left, p.size, texels.width);
     if !axis::<L, LINEAR>(l, p.rect.x0, cols, columns, x, fx, Some(consecutive)) {
@@ -290,10 +286,6 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
     let lines = (p.top, p.size, texels.height);
     if !axis::<L, LINEAR>(l, rows.start, rows.len(), lines, y, fy, None) {
         return false;
-    }
-    *tags = [usize::MAX; 2];
-    for r in filtered.iter_mut() {
-        r.resize(spans * 4 * n, 0.0);
     }
 
     let d = unpack(p.diffuse);
@@ -316,51 +308,57 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
         depth: ctx.pixel.depth,
         mask: ctx.pixel.write_mask,
     };
-
-    for (j, (&row, &weight)) in rows.zip(y.iter().zip(fy.iter())) {
-        let row = row as usize;
-        // The horizontal lerps of plane rows `row` and `row + 1` (`row` alone when point
-        // sampling).
-        if tags[0] != row {
-            if tags[1] == row {
-                filtered.swap(0, 1);
-                tags.swap(0, 1);
-            } else {
-                filter_row::<L, LINEAR>(l, texels, row, x, fx, consecutive, &mut filtered[0]);
-                tags[0] = row;
-            }
-        }
-        if LINEAR && tags[1] != row + 1 {
-            filter_row::<L, LINEAR>(l, texels, row + 1, x, fx, consecutive, &mut filtered[1]);
-            tags[1] = row + 1;
-        }
-        let weight = l.splat(weight);
-        let at = (j - band.y0) as usize * band.width + p.rect.x0 as usize;
-        let color = &mut band.color[at..at + cols];
-        let depth = &mut band.depth[at..at + cols];
-        let [top, bottom] = &*filtered;
-        let lerped = top.chunks_exact(4 * n).zip(bottom.chunks_exact(4 * n));
-        for (span, (top, bottom)) in lerped.enumerate() {
-            let texel: [L::F; 4] = channels!(|c| {
-                let t = l.load(&top[c * n..]);
-                if LINEAR {
-                    l.lerp(t, l.load(&bottom[c * n..]), weight)
+    let pitch = band.width;
+    let origin = (rows.start - band.y0) as usize * pitch + p.rect.x0 as usize;
+    let spans = x
+        .chunks_exact(n)
+        .zip(fx.chunks_exact(n))
+        .zip(consecutive.iter());
+    for (span, ((x, fx), &consecutive)) in spans.enumerate() {
+        let columns = Columns {
+            first: x[0] as usize,
+            entries: l.load_u(x),
+            weights: l.load(fx),
+            consecutive,
+        };
+        let first = span * n;
+        let width = (cols - first).min(n);
+        // The texel rows the previous pixel row read: `row` and `row + 1`, filtered.
+        let zero = l.splat(0.0);
+        let (mut top, mut bottom, mut tag) = ([zero; 4], [zero; 4], None);
+        for (k, (&row, &weight)) in y.iter().zip(fy.iter()).take(rows.len()).enumerate() {
+            let row = row as usize;
+            if tag != Some(row) {
+                top = if LINEAR && tag.is_some_and(|t| t + 1 == row) {
+                    bottom
                 } else {
-                    t
+                    filter::<L, LINEAR>(l, texels, row, &columns)
+                };
+                if LINEAR {
+                    bottom = filter::<L, LINEAR>(l, texels, row + 1, &columns);
                 }
-            });
+                tag = Some(row);
+            }
+            let texel = if LINEAR {
+                let weight = l.splat(weight);
+                channels!(|c| l.lerp(top[c], bottom[c], weight))
+            } else {
+                top
+            };
             let mut shaded: [L::F; 4] = channels!(|c| l.mul(texel[c], m[c]));
             if let Some(a) = diffuse_alpha {
                 shaded[3] = a;
             }
             // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
-            let first = span * n;
-            if first + n <= cols {
-                let (c, z) = (&mut color[first..first + n], &mut depth[first..first + n]);
+            let at = origin + k * pitch + first;
+            let (c, z) = (
+                &mut band.color[at..at + width],
+                &mut band.depth[at..at + width],
+            );
+            if width == n {
                 pixels(l, tests, b, shaded, p.z, c, z);
             } else {
                 // The last, partial span.
-                let (c, z) = (&mut color[first..], &mut depth[first..]);
                 pixels_part(l, tests, b, shaded, p.z, c, z);
             }
         }
@@ -368,49 +366,60 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
     true
 }
 
-/// The horizontal lerps of plane row `y` at the columns' entries `x` (and `x + 1`) with
-/// weights `fx` (the first half of SPEC 5.2's bilinear filter; the texel at `x` when point
-/// sampling), into `out` span by span, channel-planar.
+/// One span of a sprite's columns: the plane entries of their first texels (the second is the
+/// next entry) and the weights of the second, and whether the entries are consecutive.
+struct Columns<L: Lanes> {
+    first: usize,
+    entries: L::U,
+    weights: L::F,
+    consecutive: bool,
+}
+
+/// The horizontal lerps of plane row `y` at `columns` (the first half of SPEC 5.2's bilinear
+/// filter; the texel at the first entry when point sampling), channel by channel.
 #[inline(always)]
-fn filter_row<L: Lanes, const LINEAR: bool>(
+fn filter<L: Lanes, const LINEAR: bool>(
     l: L,
     texels: &PlanarLevel,
     y: usize,
-    x: &[u32],
-    fx: &[f32],
-    consecutive: &[bool],
-    out: &mut [f32],
-) {
-    let n = L::N;
-    let in_registers = texels.pitch <= L::REGISTER_GATHER;
-    let packed = &texels.packed[y * texels.pitch..][..texels.pitch];
-    let planes: [&[f32]; 4] = channels!(|c| texels.from(c, y, 0));
-    let one = l.splat_u(1);
-    let spans = x.chunks_exact(n).zip(fx.chunks_exact(n));
-    for (((x, fx), &consecutive), out) in spans.zip(consecutive).zip(out.chunks_exact_mut(4 * n)) {
-        let w = l.load(fx);
-        let i0 = l.load_u(x);
-        let i1 = l.add_u(i0, one);
-        // Rows too long to gather from registers: one gather of packed texels per side.
-        let (p0, p1) = if consecutive || in_registers {
-            (i0, i1)
-        } else {
-            (l.gather_u(packed, i0), l.gather_u(packed, i1))
-        };
-        for (c, plane) in planes.iter().enumerate() {
-            let (a, b) = if consecutive {
-                let at = x[0] as usize;
-                (l.load(&plane[at..]), l.load(&plane[at + 1..]))
-            } else if in_registers {
-                let row = &plane[..texels.pitch];
-                (l.gather(row, i0), l.gather(row, i1))
+    columns: &Columns<L>,
+) -> [L::F; 4] {
+    let (i0, w) = (columns.entries, columns.weights);
+    let i1 = l.add_u(i0, l.splat_u(1));
+    if columns.consecutive {
+        let at = columns.first;
+        return channels!(|c| {
+            let plane = texels.from(c, y, at);
+            let a = l.load(plane);
+            if LINEAR {
+                l.lerp(a, l.load(&plane[1..]), w)
             } else {
-                (channel(l, p0, c), channel(l, p1, c))
-            };
-            let h = if LINEAR { l.lerp(a, b, w) } else { a };
-            l.store(&mut out[c * n..], h);
-        }
+                a
+            }
+        });
     }
+    if texels.pitch <= L::REGISTER_GATHER {
+        return channels!(|c| {
+            let row = &texels.from(c, y, 0)[..texels.pitch];
+            let a = l.gather(row, i0);
+            if LINEAR {
+                l.lerp(a, l.gather(row, i1), w)
+            } else {
+                a
+            }
+        });
+    }
+    // Rows too long to gather from registers: one gather of packed texels per side.
+    let packed = &texels.packed[y * texels.pitch..][..texels.pitch];
+    let (p0, p1) = (l.gather_u(packed, i0), l.gather_u(packed, i1));
+    channels!(|c| {
+        let a = channel(l, p0, c);
+        if LINEAR {
+            l.lerp(a, channel(l, p1, c), w)
+        } else {
+            a
+        }
+    })
 }
 
 /// Channel `c` (blue, green, red, alpha) of D3DCOLORs `px`, unpacked (SPEC 1).
