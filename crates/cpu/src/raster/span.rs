@@ -288,21 +288,11 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
         return false;
     }
 
+    // The MODULATE stage (SPEC 5.1): the diffuse colour times the texel; the alpha is the
+    // texture's, the product, or the diffuse alpha.
     let d = unpack(p.diffuse);
-    // The MODULATE stage's multiplier (SPEC 5.1): the texture's alpha passes unchanged (times
-    // an exact 1) or is modulated; the diffuse alpha replaces it afterwards.
-    let m = [
-        d[2],
-        d[1],
-        d[0],
-        if alpha == ModulateAlpha::Texture {
-            1.0
-        } else {
-            d[3]
-        },
-    ];
+    let m = [d[2], d[1], d[0], d[3]];
     let m = channels!(|c| l.splat(m[c]));
-    let diffuse_alpha = (alpha == ModulateAlpha::Diffuse).then(|| l.splat(d[3]));
     let tests = Tests {
         alpha: ctx.pixel.alpha_test,
         depth: ctx.pixel.depth,
@@ -345,10 +335,16 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
             } else {
                 top
             };
-            let mut shaded: [L::F; 4] = channels!(|c| l.mul(texel[c], m[c]));
-            if let Some(a) = diffuse_alpha {
-                shaded[3] = a;
-            }
+            let shaded = [
+                l.mul(texel[0], m[0]),
+                l.mul(texel[1], m[1]),
+                l.mul(texel[2], m[2]),
+                match alpha {
+                    ModulateAlpha::Texture => texel[3],
+                    ModulateAlpha::Modulate => l.mul(texel[3], m[3]),
+                    ModulateAlpha::Diffuse => m[3],
+                },
+            ];
             // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
             let at = origin + k * pitch + first;
             let (c, z) = (
