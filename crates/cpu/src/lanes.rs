@@ -46,6 +46,10 @@ macro_rules! channels {
 }
 pub(crate) use channels;
 
+/// Lane numbers: `load_u(&LANE_INDEX)` is `0, 1, 2, ...` in the lanes.
+pub(crate) const LANE_INDEX: [u32; MAX_LANES] =
+    [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+
 /// The most lanes any implementation has: scratch rows are padded to a multiple of it.
 pub(crate) const MAX_LANES: usize = 16;
 
@@ -103,6 +107,13 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     fn max(self, a: Self::F, b: Self::F) -> Self::F;
     /// `a.floor()`.
     fn floor(self, a: Self::F) -> Self::F;
+    /// `a.ceil()`.
+    fn ceil(self, a: Self::F) -> Self::F;
+    /// The f32 whose bits each lane holds.
+    fn bits_as_float(self, u: Self::U) -> Self::F;
+    /// The little-endian u32 at each byte offset of `bytes` (an offset past `bytes.len() - 4`
+    /// reads the last four bytes); `bytes` holds at least four and at most `i32::MAX`.
+    fn gather_bytes(self, bytes: &[u8], offsets: Self::U) -> Self::U;
     /// Signed integers as f32 (`i as f32`).
     fn int_to_float(self, i: Self::U) -> Self::F;
     /// Integral f32 in the i32 range as signed integers (`x as i32`).
@@ -294,6 +305,22 @@ impl Lanes for Portable {
     #[inline(always)]
     fn floor(self, a: [f32; 8]) -> [f32; 8] {
         a.map(f32::floor)
+    }
+    #[inline(always)]
+    fn ceil(self, a: [f32; 8]) -> [f32; 8] {
+        a.map(f32::ceil)
+    }
+    #[inline(always)]
+    fn bits_as_float(self, u: [u32; 8]) -> [f32; 8] {
+        u.map(f32::from_bits)
+    }
+    #[inline(always)]
+    fn gather_bytes(self, bytes: &[u8], offsets: [u32; 8]) -> [u32; 8] {
+        let last = bytes.len() - 4;
+        offsets.map(|o| {
+            let o = (o as usize).min(last);
+            u32::from_le_bytes(bytes[o..o + 4].try_into().expect("four bytes"))
+        })
     }
     #[inline(always)]
     fn int_to_float(self, i: [u32; 8]) -> [f32; 8] {
@@ -501,6 +528,23 @@ mod x86 {
         #[inline(always)]
         fn floor(self, a: __m256) -> __m256 {
             unsafe { _mm256_floor_ps(a) }
+        }
+        #[inline(always)]
+        fn ceil(self, a: __m256) -> __m256 {
+            unsafe { _mm256_ceil_ps(a) }
+        }
+        #[inline(always)]
+        fn bits_as_float(self, u: __m256i) -> __m256 {
+            unsafe { _mm256_castsi256_ps(u) }
+        }
+        #[inline(always)]
+        fn gather_bytes(self, bytes: &[u8], offsets: __m256i) -> __m256i {
+            assert!(bytes.len() >= 4 && bytes.len() <= i32::MAX as usize);
+            unsafe {
+                let last = _mm256_set1_epi32(bytes.len() as i32 - 4);
+                let offsets = _mm256_min_epu32(offsets, last);
+                _mm256_i32gather_epi32::<1>(bytes.as_ptr().cast(), offsets)
+            }
         }
         #[inline(always)]
         fn int_to_float(self, i: __m256i) -> __m256 {
@@ -783,6 +827,23 @@ mod x86 {
             unsafe { _mm512_roundscale_ps::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(a) }
         }
         #[inline(always)]
+        fn ceil(self, a: __m512) -> __m512 {
+            unsafe { _mm512_roundscale_ps::<{ _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC }>(a) }
+        }
+        #[inline(always)]
+        fn bits_as_float(self, u: __m512i) -> __m512 {
+            unsafe { _mm512_castsi512_ps(u) }
+        }
+        #[inline(always)]
+        fn gather_bytes(self, bytes: &[u8], offsets: __m512i) -> __m512i {
+            assert!(bytes.len() >= 4 && bytes.len() <= i32::MAX as usize);
+            unsafe {
+                let last = _mm512_set1_epi32(bytes.len() as i32 - 4);
+                let offsets = _mm512_min_epu32(offsets, last);
+                _mm512_i32gather_epi32::<1>(offsets, bytes.as_ptr().cast())
+            }
+        }
+        #[inline(always)]
         fn int_to_float(self, i: __m512i) -> __m512 {
             unsafe { _mm512_cvtepi32_ps(i) }
         }
@@ -1051,6 +1112,19 @@ mod tests {
                 same_f("min", f(l, l.min(la, lb)), p.min(fa, fb));
                 same_f("max", f(l, l.max(la, lb)), p.max(fa, fb));
                 same_f("floor", f(l, l.floor(la)), p.floor(fa));
+                same_f("ceil", f(l, l.ceil(la)), p.ceil(fa));
+                same_f(
+                    "bits_as_float",
+                    f(l, l.bits_as_float(pu)),
+                    p.bits_as_float(ppu),
+                );
+                let raw: Vec<u8> = row_u.iter().flat_map(|w| w.to_le_bytes()).collect();
+                let spots: [u32; MAX_LANES] = std::array::from_fn(|i| idx[i] * 3);
+                same_u(
+                    "gather_bytes",
+                    u(l, l.gather_bytes(&raw, l.load_u(&spots))),
+                    p.gather_bytes(&raw, p.load_u(&spots[r.clone()])),
+                );
                 same_f(
                     "int_to_float",
                     f(l, l.int_to_float(pu)),

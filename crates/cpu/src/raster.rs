@@ -350,8 +350,8 @@ struct DrawContext<'a> {
     shading: Shading,
     textures: [Option<StageTexture<'a>>; MAX_STAGES],
     vertices: &'a [u8],
-    /// The vectors the wide spans run on; none on the portable level, whose spans are the
-    /// tests' twin (binned sprites then take the four-pixel spans).
+    /// The vectors the wide spans (and the point stage's batches) run on; none on the portable
+    /// level, whose spans are the tests' twin (binned sprites then take the four-pixel spans).
     spans: Option<LanesLevel>,
 }
 
@@ -550,19 +550,20 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         })
     });
     let points = PointSetup::new(state, fvf);
+    let spans = match LanesLevel::detect() {
+        LanesLevel::Portable => None,
+        level => Some(level),
+    };
     let mut ctx = DrawContext {
         bin_from: PARALLEL_MIN_POINTS,
-        squares: SquareStage::new(&points),
+        squares: SquareStage::new(&points, spans),
         flat: pixel.is_flat(),
         points,
         shading: shading(&pixel),
         pixel,
         textures,
         vertices,
-        spans: match LanesLevel::detect() {
-            LanesLevel::Portable => None,
-            level => Some(level),
-        },
+        spans,
     };
     // Binned sprites read stage 0's texels unpacked, when its level is small.
     if ctx.binned()

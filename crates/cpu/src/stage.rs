@@ -9,7 +9,9 @@
 
 use pointillist_core::fvf::{read_f32, read_u32};
 use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
+use pointillist_core::states::Cmp;
 
+use crate::lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
 use crate::simd::{self, F4};
 
 /// What the compact fills read of a point: its covered rectangle (never empty), depth, size,
@@ -39,12 +41,18 @@ impl From<&ScreenPoint> for Square {
 }
 
 /// The squares of a draw's vertices, from the twin where it applies and from core's stage
-/// otherwise.
-pub(crate) struct SquareStage(Option<Twin>);
+/// otherwise; pre-transformed vertices of one size N at a time on `lanes`, when given.
+pub(crate) struct SquareStage {
+    twin: Option<Twin>,
+    lanes: Option<Level>,
+}
 
 impl SquareStage {
-    pub(crate) fn new(points: &PointSetup) -> SquareStage {
-        SquareStage(Twin::new(points))
+    pub(crate) fn new(points: &PointSetup, lanes: Option<Level>) -> SquareStage {
+        SquareStage {
+            twin: Twin::new(points),
+            lanes,
+        }
     }
 
     /// Calls `f(index, square)` for every vertex in `range` that survives `points`, in order.
@@ -56,12 +64,17 @@ impl SquareStage {
         range: std::ops::Range<u32>,
         mut f: impl FnMut(u32, &Square),
     ) {
-        if let Some(twin) = self.0.as_ref().filter(|t| !t.pretransformed) {
+        if let Some(twin) = self.twin.as_ref().filter(|t| !t.pretransformed) {
             return twin.for_each_transformed(points, vertices, range, &mut f);
+        }
+        let mut range = range;
+        if let (Some(twin), Some(lanes)) = (&self.twin, self.lanes) {
+            // The vertices before `range.start` after it went through N at a time.
+            range.start = twin.for_each_pretransformed(lanes, vertices, range.clone(), &mut f);
         }
         // One call site of `f`, so that it inlines; the match is the same for every vertex.
         for index in range {
-            let square = match &self.0 {
+            let square = match &self.twin {
                 Some(twin) => twin.square(points, vertices, index),
                 None => points.process(vertices, index).map(|p| Square::from(&p)),
             };
@@ -95,6 +108,10 @@ pub(crate) struct Twin {
     upper: [f32; 4],
     /// The vertex holds 16 bytes from its position on, read at once.
     load16: bool,
+    /// Depth clipping (SPEC 3.1) and the viewport's depth range, for pre-transformed vertices.
+    clipping: bool,
+    min_z: f32,
+    max_z: f32,
     /// For transformed vertices.
     projector: Projector,
 }
@@ -190,6 +207,9 @@ impl Twin {
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
             load16: layout.stride >= 16,
+            clipping: points.clipping(),
+            min_z: points.viewport().min_z,
+            max_z: points.viewport().max_z,
             projector: Projector::new(points),
         })
     }
@@ -298,6 +318,129 @@ impl Twin {
         }
     }
 
+    /// [`SquareStage::for_each`] for pre-transformed vertices of one size (SPEC 2.1 to 2.3 give
+    /// every point the same), N at a time on `lanes` from `range.start` while whole batches
+    /// remain; the index of the first vertex left for [`Twin::square`].
+    #[allow(unsafe_code)]
+    fn for_each_pretransformed<F: FnMut(u32, &Square)>(
+        &self,
+        lanes: Level,
+        vertices: &[u8],
+        range: std::ops::Range<u32>,
+        f: &mut F,
+    ) -> u32 {
+        if !self.pretransformed || self.size.is_none() || vertices.len() > i32::MAX as usize {
+            return range.start;
+        }
+        match lanes {
+            Level::Portable => self.pretransformed_lanes(Portable, vertices, range, f),
+            // SAFETY: the level's value proves the CPU has the features the function is
+            // compiled with (`Level::detect`).
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2(l) => unsafe { pretransformed_avx2(self, l, vertices, range, f) },
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512(l) => unsafe { pretransformed_avx512(self, l, vertices, range, f) },
+        }
+    }
+
+    /// [`Twin::for_each_pretransformed`] on lanes `L`: [`Twin::square`]'s operations lane by
+    /// lane (the drops ANDed into one mask), so the same squares.
+    #[inline(always)]
+    fn pretransformed_lanes<L: Lanes, F: FnMut(u32, &Square)>(
+        &self,
+        l: L,
+        vertices: &[u8],
+        range: std::ops::Range<u32>,
+        f: &mut F,
+    ) -> u32 {
+        let n = L::N as u32;
+        let size = self.size.expect("one size for every point");
+        let half = size / 2.0;
+        let stride = self.stride as u32;
+        let zero = l.splat(0.0);
+        let lower = [0, 1, 2, 3].map(|k| self.lower[k]);
+        let upper = [0, 1, 2, 3].map(|k| self.upper[k]);
+        let lane_offsets = l.load_u(&LANE_INDEX.map(|i| i.wrapping_mul(stride)));
+        let clipping = self.clipping;
+        let (min_z, max_z) = (l.splat(self.min_z), l.splat(self.max_z));
+        let mut index = range.start;
+        while range.end - index >= n {
+            let offsets = l.add_u(lane_offsets, l.splat_u(index * stride));
+            // Macros, not closures: a closure would be compiled without the lanes' features.
+            macro_rules! field {
+                ($at:expr) => {
+                    l.gather_bytes(vertices, l.add_u(offsets, l.splat_u($at)))
+                };
+            }
+            macro_rules! finite {
+                ($v:expr) => {
+                    l.cmp(Cmp::Equal, l.sub($v, $v), zero)
+                };
+            }
+            let (x, y) = (l.bits_as_float(field!(0)), l.bits_as_float(field!(4)));
+            let (z, rhw) = (l.bits_as_float(field!(8)), l.bits_as_float(field!(12)));
+            // SPEC 3.1: finite coordinates (`v - v` is 0 exactly for finite `v`), w = 1/RHW
+            // positive and, with clipping, the depth inside the viewport's range.
+            let mut keep = l.and(
+                l.and(finite!(x), finite!(y)),
+                l.and(finite!(z), finite!(rhw)),
+            );
+            keep = l.and(keep, l.cmp(Cmp::Greater, rhw, zero));
+            if clipping {
+                keep = l.and(keep, l.cmp(Cmp::LessEqual, min_z, z));
+                keep = l.and(keep, l.cmp(Cmp::LessEqual, z, max_z));
+            }
+            // SPEC 4.1 and 3.2: `ceil` of the edges clamped to the viewport; a rectangle
+            // without pixels is dropped.
+            let half = l.splat(half);
+            let (left, top) = (l.sub(x, half), l.sub(y, half));
+            let edges = [left, top, l.add(x, half), l.add(y, half)];
+            let mut ceiled = [zero; 4];
+            for k in 0..4 {
+                let (lo, hi) = (l.splat(lower[k]), l.splat(upper[k]));
+                ceiled[k] = l.ceil(l.min(l.max(edges[k], lo), hi));
+            }
+            keep = l.and(keep, l.cmp(Cmp::Less, ceiled[0], ceiled[2]));
+            keep = l.and(keep, l.cmp(Cmp::Less, ceiled[1], ceiled[3]));
+            let mut kept = l.bits(keep);
+            if kept != 0 {
+                let mut out = [[0u32; MAX_LANES]; 4];
+                for k in 0..4 {
+                    l.store_u(&mut out[k], l.float_to_int(ceiled[k]));
+                }
+                let mut floats = [[0f32; MAX_LANES]; 3];
+                l.store(&mut floats[0], z);
+                l.store(&mut floats[1], left);
+                l.store(&mut floats[2], top);
+                let mut diffuse = [pointillist_core::color::WHITE; MAX_LANES];
+                if let Some(o) = self.diffuse {
+                    l.store_u(&mut diffuse, field!(o as u32));
+                }
+                while kept != 0 {
+                    let i = kept.trailing_zeros() as usize;
+                    kept &= kept - 1;
+                    let rect = PixelRect {
+                        x0: out[0][i] as i32,
+                        y0: out[1][i] as i32,
+                        x1: out[2][i] as i32,
+                        y1: out[3][i] as i32,
+                    };
+                    let square = Square {
+                        rect,
+                        z: floats[0][i],
+                        size,
+                        left: floats[1][i],
+                        top: floats[2][i],
+                        diffuse: diffuse[i],
+                    };
+                    f(index + i as u32, &square);
+                }
+            }
+            index += n;
+        }
+        index
+    }
+
     /// Transformed vertices `index..index + 4` as [`Twin::square`] gives them, four lanes at a
     /// time: every lane the same operations (the drops ANDed into one mask), so the same
     /// squares.
@@ -372,6 +515,32 @@ impl Twin {
             })
         })
     }
+}
+
+/// [`Twin::pretransformed_lanes`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn pretransformed_avx2<F: FnMut(u32, &Square)>(
+    twin: &Twin,
+    l: crate::lanes::Avx2,
+    vertices: &[u8],
+    range: std::ops::Range<u32>,
+    f: &mut F,
+) -> u32 {
+    twin.pretransformed_lanes(l, vertices, range, f)
+}
+
+/// [`Twin::pretransformed_lanes`] compiled for AVX-512 F and BW.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw")]
+fn pretransformed_avx512<F: FnMut(u32, &Square)>(
+    twin: &Twin,
+    l: crate::lanes::Avx512,
+    vertices: &[u8],
+    range: std::ops::Range<u32>,
+    f: &mut F,
+) -> u32 {
+    twin.pretransformed_lanes(l, vertices, range, f)
 }
 
 #[cfg(test)]
@@ -469,6 +638,7 @@ mod tests {
             };
             let points = PointSetup::new(device.state(), fvf);
             let twin = Twin::new(&points).expect("no user clip planes");
+            assert!(SquareStage::new(&points, None).twin.is_some());
             let mut vertices = Vec::new();
             for _ in 0..200 {
                 let mut words = if fvf.is_pretransformed() {
@@ -532,16 +702,21 @@ mod tests {
                 survivors += usize::from(ours.is_some());
                 tested += 1;
             }
-            // Four vertices at a time, from an odd start so that a one-vertex tail remains.
-            let mut staged = vec![None; count as usize];
-            SquareStage(Some(twin)).for_each(&points, &vertices, 1..count, |index, s| {
-                staged[index as usize] = bits(Some(*s));
-            });
-            for index in 1..count {
-                assert_eq!(
-                    staged[index as usize], reference[index as usize],
-                    "case {case} ({profile}, {fvf:?}) vertex {index}, four at a time"
-                );
+            // Four (transformed) or N (pre-transformed) vertices at a time on every level, from
+            // an odd start so that a tail remains.
+            let levels = Level::available().into_iter().map(Some);
+            for lanes in levels.chain([None]) {
+                let mut staged = vec![None; count as usize];
+                let stage = SquareStage::new(&points, lanes);
+                stage.for_each(&points, &vertices, 1..count, |index, s| {
+                    staged[index as usize] = bits(Some(*s));
+                });
+                for index in 1..count {
+                    assert_eq!(
+                        staged[index as usize], reference[index as usize],
+                        "case {case} ({profile}, {fvf:?}) vertex {index}, batches on {lanes:?}"
+                    );
+                }
             }
         }
         // Enough ordinary points survive that the squares, not only the drops, are compared.

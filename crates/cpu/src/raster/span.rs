@@ -26,7 +26,7 @@ use pointillist_core::states::Cmp;
 use pointillist_core::texture::{COORD_LIMIT, Level as TextureLevel, SamplerDesc, fetch};
 
 use super::{Band, Blender, DrawContext, ModulateAlpha, SpriteView, rows};
-use crate::lanes::{Lanes, Level, MAX_LANES, Portable, channels};
+use crate::lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable, channels};
 
 /// A level's texels as four planes of f32 (blue, green, red, alpha: SPEC 1's unpack), each
 /// `(width + 2) x (height + 2)` with a margin of one texel on every side holding the texel the
@@ -178,9 +178,6 @@ fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool>(
     fill_with::<L, B, LINEAR>(l, ctx, b, p, band, s, alpha, texels)
 }
 
-/// Lane numbers, for [`axis`].
-const LANE: [u32; MAX_LANES] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
-
 /// The plane entries and weights of the `count` pixels from `first` along an axis of a sprite
 /// with near edge `edge` and side `size` on `n` texels (SPEC 4.3's `sprite_coord`, then SPEC
 /// 5.2's `linear_texel`, or `point_texel` and weight 0), N pixels at a time into `entries`
@@ -204,7 +201,7 @@ fn axis<L: Lanes, const LINEAR: bool>(
     if let Some(c) = consecutive.as_deref_mut() {
         c.clear();
     }
-    let lane = l.load_u(&LANE);
+    let lane = l.load_u(&LANE_INDEX);
     let (edge, size, texels) = (l.splat(edge), l.splat(size), l.splat(n as f32));
     let (limit, zero) = (l.splat(COORD_LIMIT), l.splat(0.0));
     let (lowest, highest) = (l.splat(-1.0), l.splat((n - u32::from(LINEAR)) as f32));
