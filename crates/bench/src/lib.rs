@@ -113,12 +113,15 @@ pub fn run(
         let ours = ours(&w, options.frames)?;
         let base = ours.median();
         let mpts = points as f64 / base.as_secs_f64() / 1e6;
+        let pixels = w.covered_pixels().map_err(|e| e.to_string())?;
+        let gpx = pixels as f64 / base.as_secs_f64() / 1e9;
         line(&format!(
-            "{kind:?} {points} points {}x{}: {:<24} {:>10}  {mpts:8.1} M points/s",
+            "{kind:?} {points} points {}x{}: {:<24} {:>10}  {mpts:8.1} M points/s  {gpx:6.3} G pixels/s ({:.1} M pixels a frame)",
             w.width,
             w.height,
             ours.renderer,
-            ms(base)
+            ms(base),
+            pixels as f64 / 1e6
         ));
         let mut others = Vec::new();
         if let Some(p) = &peer {

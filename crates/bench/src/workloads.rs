@@ -12,6 +12,7 @@ use std::sync::Arc;
 use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, TransformType};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
+use pointillist_core::point::PointSetup;
 use pointillist_core::states::{Blend, RenderState, SamplerState, TextureFilter};
 use pointillist_core::texture::Texture;
 
@@ -194,6 +195,18 @@ impl Workload {
                 _ => 4.0,
             },
         }
+    }
+
+    /// The pixels a frame draws: every point's covered rectangle inside the target (SPEC 4.1,
+    /// 3.2), overlaps counted once per point, as core's per-point stage gives them.
+    pub fn covered_pixels(&self) -> Result<u64, DeviceError> {
+        let mut device = pointillist_cpu::device(self.device_desc())?;
+        self.configure(&mut device)?;
+        let points = PointSetup::new(device.state(), self.fvf);
+        Ok((0..self.points as u32)
+            .filter_map(|i| points.process(&self.vertices, i))
+            .map(|p| (p.rect.x1 - p.rect.x0) as u64 * (p.rect.y1 - p.rect.y0) as u64)
+            .sum())
     }
 
     /// The device the workload draws on.
