@@ -1,8 +1,9 @@
-//! Pixel spans on the machine's widest vectors: [`Lanes`] is N lanes of f32 and of u32 with the
-//! operations the span fills need (SPEC 1's unpack and round-to-nearest pack, the sampler's
-//! lerp, the blend arithmetic, the alpha and depth comparisons), implemented for AVX-512
-//! (sixteen lanes), AVX2 (eight) and a portable twin (eight lanes of plain scalar code, the
-//! reference the tests compare the others with, and the fallback on every other machine).
+//! The machine's widest vectors: [`Lanes`] is N lanes of f32 and of u32 with the operations the
+//! wide sprite spans and the point stage's batches need (SPEC 1's unpack and round-to-nearest
+//! pack, the sampler's lerp, the blend arithmetic, the alpha and depth comparisons, the
+//! stage's tests and ceilings), implemented for AVX-512 (sixteen lanes), AVX2 (eight) and a
+//! portable twin (eight lanes of plain scalar code: the reference the tests compare the others
+//! with; a CPU with neither AVX2 nor AVX-512 keeps the four-lane paths instead).
 //!
 //! Contract: every operation is, lane by lane, the exact IEEE f32 operation (or the integer
 //! operation) the scalar reference performs, never fused, so a span gives the bits of its

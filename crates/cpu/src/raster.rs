@@ -21,9 +21,8 @@
 //! four channels at a time ([`F4`]); anywhere else they call the core sampler. A binned draw
 //! whose sprites all read one small level unpacks its texels once ([`Texel`]), the same values
 //! [`F4::from_argb`] gives each pixel otherwise. There, sprites at least [`SPAN_MIN_COLUMNS`]
-//! wide fill through [`span`]: the level as channel planes with its address margin, and each
-//! pixel row [`Lanes::N`] pixels at a time on the widest vectors the CPU has
-//! ([`mod@crate::lanes`]).
+//! wide fill through [`span`]: the level as channel planes with its address margin, and
+//! [`Lanes::N`] pixels at a time on the widest vectors the CPU has ([`mod@crate::lanes`]).
 
 use pointillist_core::color::{Rgba, pack, unpack};
 use pointillist_core::device::{DeviceState, MAX_STAGES, RenderTarget};
@@ -49,9 +48,13 @@ mod span;
 /// Target rows per band: small enough to spread work over threads, large enough that small
 /// sprites rarely straddle two bands.
 const BAND_ROWS: usize = 32;
-/// Draws with fewer points run one point after another on the calling thread; bigger ones are
-/// binned, with any number of threads (the bands' locality pays on one thread too).
+/// Draws with fewer points run one point after another on the calling thread, unless they
+/// cover [`PARALLEL_MIN_PIXELS`]; bigger ones are binned, with any number of threads (the
+/// bands' locality pays on one thread too).
 const PARALLEL_MIN_POINTS: u32 = 2048;
+/// Draws of fewer points covering this many pixels or more (a few hundred big sprites) are
+/// binned too: their fill outweighs the bins' cost.
+const PARALLEL_MIN_PIXELS: u64 = 1 << 15;
 /// Binned sprites this many columns wide or more fill through the wide spans ([`span`]);
 /// narrower ones through [`fill_narrow`] (measured: 2 and 3 columns are faster there).
 const SPAN_MIN_COLUMNS: i32 = 4;
@@ -340,8 +343,9 @@ impl<'a> StageTexture<'a> {
 
 /// Everything resolved once per draw.
 struct DrawContext<'a> {
-    /// Draws of this many points or more are binned ([`PARALLEL_MIN_POINTS`]; tests raise it).
-    bin_from: u32,
+    /// Whether the draw bins its points and fills bands in parallel (else point after point):
+    /// [`PARALLEL_MIN_POINTS`] or more, or fewer covering [`PARALLEL_MIN_PIXELS`]. Tests set it.
+    binned: bool,
     points: PointSetup,
     /// [`PixelSetup::is_flat`], once per draw.
     flat: bool,
@@ -361,9 +365,20 @@ impl DrawContext<'_> {
         (self.vertices.len() / self.points.layout().stride) as u32
     }
 
-    /// Whether the draw bins its points and fills bands in parallel (else point after point).
-    fn binned(&self) -> bool {
-        self.point_count() >= self.bin_from
+    /// [`DrawContext::binned`] by the point count, else by the pixels the points cover (which
+    /// runs the per-point stage over a small draw once more).
+    fn bins(&self) -> bool {
+        let count = self.point_count();
+        if count >= PARALLEL_MIN_POINTS {
+            return true;
+        }
+        let mut pixels = 0u64;
+        self.squares
+            .for_each(&self.points, self.vertices, 0..count, |_, s| {
+                let r = s.rect;
+                pixels += (r.x1 - r.x0) as u64 * (r.y1 - r.y0) as u64;
+            });
+        pixels >= PARALLEL_MIN_PIXELS
     }
 }
 
@@ -555,7 +570,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         level => Some(level),
     };
     let mut ctx = DrawContext {
-        bin_from: PARALLEL_MIN_POINTS,
+        binned: false,
         squares: SquareStage::new(&points, spans),
         flat: pixel.is_flat(),
         points,
@@ -565,8 +580,9 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         vertices,
         spans,
     };
+    ctx.binned = ctx.bins();
     // Binned sprites read stage 0's texels unpacked, when its level is small.
-    if ctx.binned()
+    if ctx.binned
         && matches!(ctx.shading, Shading::Modulate(_))
         && let Some(t) = &mut ctx.textures[0]
     {
@@ -607,7 +623,7 @@ fn draw_points<B: Blender, P: Binned>(
 ) {
     let count = ctx.point_count();
     let threads = rayon::current_num_threads();
-    if ctx.binned() {
+    if ctx.binned {
         draw_binned::<B, P>(ctx, b, target, P::chunks(bins), clear, count, threads);
         return trim_bins(P::chunks(bins));
     }
@@ -1623,23 +1639,25 @@ mod tests {
             let mut general = start.clone();
             draw_general(&mut general, state, fvf, &vertices);
             let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
-            // The wide spans on every level this machine has, and none.
-            let levels = LanesLevel::available().into_iter().map(Some);
-            for lanes in levels.chain([None]) {
+            // Binned: the wide spans on every level this machine has, and none; then point
+            // after point (the sprites' own fast paths, without bins).
+            let levels = LanesLevel::available().into_iter().map(|l| (Some(l), true));
+            for (lanes, binned) in levels.chain([(None, true), (None, false)]) {
                 let mut fast = start.clone();
                 let mut ctx = context(state, fvf, &vertices);
-                ctx.spans = lanes;
+                (ctx.spans, ctx.binned) = (lanes, binned);
                 if let Some(t) = &mut ctx.textures[0] {
                     t.unpack(lanes.is_some());
                 }
                 draw_context(&ctx, &mut fast, &mut Bins::default(), None);
+                let setup = (setup, lanes, binned);
                 for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
                     assert_eq!(
                         a, b,
-                        "scene {scene} {setup:?} {lanes:?}: pixel {k}: {a:08x} vs {b:08x}"
+                        "scene {scene} {setup:?}: pixel {k}: {a:08x} vs {b:08x}"
                     );
                 }
-                assert_eq!(fast.depth, general.depth, "scene {scene} {lanes:?}");
+                assert_eq!(fast.depth, general.depth, "scene {scene} {setup:?}");
             }
         }
     }
@@ -1721,10 +1739,10 @@ mod tests {
                 vertices.extend(row.iter().flat_map(|w| w.to_le_bytes()));
             }
             let state = device.state();
-            let drawn = |threads: usize, bin_from: u32| {
+            let drawn = |threads: usize, binned: bool| {
                 let mut target = RenderTarget::new(w, h, 0xFF10_2030, 1.0);
                 let mut ctx = context(state, fvf, &vertices);
-                ctx.bin_from = bin_from;
+                ctx.binned = binned;
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
                     .build()
@@ -1732,7 +1750,7 @@ mod tests {
                 pool.install(|| draw_context(&ctx, &mut target, &mut Bins::default(), None));
                 target
             };
-            let sequential = drawn(1, u32::MAX);
+            let sequential = drawn(1, false);
             assert!(
                 sequential
                     .color
@@ -1742,7 +1760,7 @@ mod tests {
                     > 1000
             );
             for threads in [1, 2, 3] {
-                let binned = drawn(threads, PARALLEL_MIN_POINTS);
+                let binned = drawn(threads, true);
                 assert!(
                     binned.color == sequential.color,
                     "scene {scene}, {threads} threads: colour"

@@ -186,7 +186,6 @@ fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool>(
 /// whether its pixels read consecutive entries. False when an index leaves the margin
 /// (`-1..=n - LINEAR`).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn axis<L: Lanes, const LINEAR: bool>(
     l: L,
     first: i32,
@@ -277,12 +276,12 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
         y,
         fy,
     } = s;
-    let columns = (p.left, p.size, texels.width);
-    if !axis::<L, LINEAR>(l, p.rect.x0, cols, columns, x, fx, Some(consecutive)) {
+    let across = (p.left, p.size, texels.width);
+    if !axis::<L, LINEAR>(l, p.rect.x0, cols, across, x, fx, Some(consecutive)) {
         return false;
     }
-    let lines = (p.top, p.size, texels.height);
-    if !axis::<L, LINEAR>(l, rows.start, rows.len(), lines, y, fy, None) {
+    let down = (p.top, p.size, texels.height);
+    if !axis::<L, LINEAR>(l, rows.start, rows.len(), down, y, fy, None) {
         return false;
     }
 
@@ -350,10 +349,10 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
                 &mut band.depth[at..at + width],
             );
             if width == n {
-                pixels(l, tests, b, shaded, p.z, c, z);
+                pixels::<L, B, false>(l, tests, b, shaded, p.z, c, z);
             } else {
                 // The last, partial span.
-                pixels_part(l, tests, b, shaded, p.z, c, z);
+                pixels::<L, B, true>(l, tests, b, shaded, p.z, c, z);
             }
         }
     }
@@ -427,10 +426,10 @@ fn channel<L: Lanes>(l: L, px: L::U, c: usize) -> L::F {
     }
 }
 
-/// Tests, blend and mask of one span of N pixels whose shaded colour `t` (blue, green, red,
-/// alpha bytes) is known, at `color` and `depth` (SPEC 5.3 to 5.6, as `write_pixel`).
+/// Tests, blend and mask (SPEC 5.3 to 5.6, as `write_pixel`) of the pixels `color` at depths
+/// `depth` whose shaded colour is `shaded`: N of them, or fewer (`PART`) in the first lanes.
 #[inline(always)]
-fn pixels<L: Lanes, B: Blender>(
+fn pixels<L: Lanes, B: Blender, const PART: bool>(
     l: L,
     tests: Tests,
     b: &B,
@@ -439,38 +438,26 @@ fn pixels<L: Lanes, B: Blender>(
     color: &mut [u32],
     depth: &mut [f32],
 ) {
-    let stored = if tests.depth.is_some() {
-        Some(l.load(depth))
+    let old = if PART {
+        l.load_u_part(color)
     } else {
-        None
+        l.load_u(color)
     };
-    let (new, z) = span_pixels(l, tests, b, shaded, z, l.load_u(color), stored);
-    l.store_u(color, new);
-    if let Some(z) = z {
-        l.store(depth, z);
+    let stored = match tests.depth {
+        Some(_) if PART => Some(l.load_part(depth)),
+        Some(_) => Some(l.load(depth)),
+        None => None,
+    };
+    let (new, z) = span_pixels(l, tests, b, shaded, z, old, stored);
+    if PART {
+        l.store_u_part(color, new);
+    } else {
+        l.store_u(color, new);
     }
-}
-
-/// [`pixels`] of the first `color.len()` lanes (fewer than N).
-#[inline(always)]
-fn pixels_part<L: Lanes, B: Blender>(
-    l: L,
-    tests: Tests,
-    b: &B,
-    shaded: [L::F; 4],
-    z: f32,
-    color: &mut [u32],
-    depth: &mut [f32],
-) {
-    let stored = if tests.depth.is_some() {
-        Some(l.load_part(depth))
-    } else {
-        None
-    };
-    let (new, z) = span_pixels(l, tests, b, shaded, z, l.load_u_part(color), stored);
-    l.store_u_part(color, new);
-    if let Some(z) = z {
-        l.store_part(depth, z);
+    match z {
+        Some(z) if PART => l.store_part(depth, z),
+        Some(z) => l.store(depth, z),
+        None => {}
     }
 }
 
