@@ -106,6 +106,8 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     fn min(self, a: Self::F, b: Self::F) -> Self::F;
     /// `if a > b { a } else { b }` (`b` when either is NaN).
     fn max(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a.sqrt()`.
+    fn sqrt(self, a: Self::F) -> Self::F;
     /// `a.floor()`.
     fn floor(self, a: Self::F) -> Self::F;
     /// `a.ceil()`.
@@ -302,6 +304,10 @@ impl Lanes for Portable {
     #[inline(always)]
     fn max(self, a: [f32; 8], b: [f32; 8]) -> [f32; 8] {
         std::array::from_fn(|i| if a[i] > b[i] { a[i] } else { b[i] })
+    }
+    #[inline(always)]
+    fn sqrt(self, a: [f32; 8]) -> [f32; 8] {
+        a.map(f32::sqrt)
     }
     #[inline(always)]
     fn floor(self, a: [f32; 8]) -> [f32; 8] {
@@ -525,6 +531,10 @@ mod x86 {
         #[inline(always)]
         fn max(self, a: __m256, b: __m256) -> __m256 {
             unsafe { _mm256_max_ps(a, b) }
+        }
+        #[inline(always)]
+        fn sqrt(self, a: __m256) -> __m256 {
+            unsafe { _mm256_sqrt_ps(a) }
         }
         #[inline(always)]
         fn floor(self, a: __m256) -> __m256 {
@@ -824,6 +834,10 @@ mod x86 {
             unsafe { _mm512_max_ps(a, b) }
         }
         #[inline(always)]
+        fn sqrt(self, a: __m512) -> __m512 {
+            unsafe { _mm512_sqrt_ps(a) }
+        }
+        #[inline(always)]
         fn floor(self, a: __m512) -> __m512 {
             unsafe { _mm512_roundscale_ps::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(a) }
         }
@@ -1113,6 +1127,7 @@ mod tests {
                 same_f("min", f(l, l.min(la, lb)), p.min(fa, fb));
                 same_f("max", f(l, l.max(la, lb)), p.max(fa, fb));
                 same_f("floor", f(l, l.floor(la)), p.floor(fa));
+                same_f("sqrt", f(l, l.sqrt(la)), p.sqrt(fa));
                 same_f("ceil", f(l, l.ceil(la)), p.ceil(fa));
                 same_f(
                     "bits_as_float",

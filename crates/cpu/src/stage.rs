@@ -64,13 +64,13 @@ impl SquareStage {
         range: std::ops::Range<u32>,
         mut f: impl FnMut(u32, &Square),
     ) {
-        if let Some(twin) = self.twin.as_ref().filter(|t| !t.pretransformed) {
-            return twin.for_each_transformed(points, vertices, range, &mut f);
-        }
         let mut range = range;
         if let (Some(twin), Some(lanes)) = (&self.twin, self.lanes) {
             // The vertices before `range.start` after it went through N at a time.
-            range.start = twin.for_each_pretransformed(lanes, vertices, range.clone(), &mut f);
+            range.start = twin.for_each_batched(lanes, points, vertices, range.clone(), &mut f);
+        }
+        if let Some(twin) = self.twin.as_ref().filter(|t| !t.pretransformed) {
+            return twin.for_each_transformed(points, vertices, range, &mut f);
         }
         // One call site of `f`, so that it inlines; the match is the same for every vertex.
         for index in range {
@@ -114,6 +114,8 @@ pub(crate) struct Twin {
     max_z: f32,
     /// For transformed vertices.
     projector: Projector,
+    /// WORLD * VIEW and PROJECTION, for the batches.
+    matrices: [pointillist_core::math::Mat4; 2],
 }
 
 /// [`PointSetup::project`] (SPEC 1, 2.2, 3.1) of four vertices, one a lane: every lane the same
@@ -211,6 +213,7 @@ impl Twin {
             min_z: points.viewport().min_z,
             max_z: points.viewport().max_z,
             projector: Projector::new(points),
+            matrices: [*points.world_view(), *points.projection()],
         })
     }
 
@@ -318,51 +321,54 @@ impl Twin {
         }
     }
 
-    /// [`SquareStage::for_each`] for pre-transformed vertices of one size (SPEC 2.1 to 2.3 give
-    /// every point the same), N at a time on `lanes` from `range.start` while whole batches
-    /// remain; the index of the first vertex left for [`Twin::square`].
+    /// [`SquareStage::for_each`] N vertices at a time on `lanes` from `range.start` while whole
+    /// batches remain; the index of the first vertex left for one vertex at a time.
     #[allow(unsafe_code)]
-    fn for_each_pretransformed<F: FnMut(u32, &Square)>(
+    fn for_each_batched<F: FnMut(u32, &Square)>(
         &self,
         lanes: Level,
+        points: &PointSetup,
         vertices: &[u8],
         range: std::ops::Range<u32>,
         f: &mut F,
     ) -> u32 {
-        if !self.pretransformed || self.size.is_none() || vertices.len() > i32::MAX as usize {
+        if vertices.len() > i32::MAX as usize {
             return range.start;
         }
         match lanes {
-            Level::Portable => self.pretransformed_lanes(Portable, vertices, range, f),
+            Level::Portable => self.batches(Portable, points, vertices, range, f),
             // SAFETY: the level's value proves the CPU has the features the function is
             // compiled with (`Level::detect`).
             #[cfg(target_arch = "x86_64")]
-            Level::Avx2(l) => unsafe { pretransformed_avx2(self, l, vertices, range, f) },
+            Level::Avx2(l) => unsafe { batches_avx2(self, l, points, vertices, range, f) },
             #[cfg(target_arch = "x86_64")]
-            Level::Avx512(l) => unsafe { pretransformed_avx512(self, l, vertices, range, f) },
+            Level::Avx512(l) => unsafe { batches_avx512(self, l, points, vertices, range, f) },
         }
     }
 
-    /// [`Twin::for_each_pretransformed`] on lanes `L`: [`Twin::square`]'s operations lane by
-    /// lane (the drops ANDed into one mask), so the same squares.
+    /// [`Twin::for_each_batched`] on lanes `L`: [`Twin::square`]'s operations lane by lane
+    /// (for transformed vertices those of [`Projector::project4`] and the scaled size), the
+    /// drops ANDed into one mask, so the same squares; where the lanes' max and min differ
+    /// from f32's (equal operands), only the sign of a zero size differs, and a zero size
+    /// covers no pixel.
     #[inline(always)]
-    fn pretransformed_lanes<L: Lanes, F: FnMut(u32, &Square)>(
+    fn batches<L: Lanes, F: FnMut(u32, &Square)>(
         &self,
         l: L,
+        points: &PointSetup,
         vertices: &[u8],
         range: std::ops::Range<u32>,
         f: &mut F,
     ) -> u32 {
         let n = L::N as u32;
-        let size = self.size.expect("one size for every point");
-        let half = size / 2.0;
         let stride = self.stride as u32;
         let zero = l.splat(0.0);
         let lower = [0, 1, 2, 3].map(|k| self.lower[k]);
         let upper = [0, 1, 2, 3].map(|k| self.upper[k]);
         let lane_offsets = l.load_u(&LANE_INDEX.map(|i| i.wrapping_mul(stride)));
-        let clipping = self.clipping;
-        let (min_z, max_z) = (l.splat(self.min_z), l.splat(self.max_z));
+        let p = &self.projector;
+        let (lo, hi) = points.size_bounds();
+        let scale = points.scale().copied();
         let mut index = range.start;
         while range.end - index >= n {
             let offsets = l.add_u(lane_offsets, l.splat_u(index * stride));
@@ -377,22 +383,109 @@ impl Twin {
                     l.cmp(Cmp::Equal, l.sub($v, $v), zero)
                 };
             }
-            let (x, y) = (l.bits_as_float(field!(0)), l.bits_as_float(field!(4)));
-            let (z, rhw) = (l.bits_as_float(field!(8)), l.bits_as_float(field!(12)));
-            // SPEC 3.1: finite coordinates (`v - v` is 0 exactly for finite `v`), w = 1/RHW
-            // positive and, with clipping, the depth inside the viewport's range.
-            let mut keep = l.and(
-                l.and(finite!(x), finite!(y)),
-                l.and(finite!(z), finite!(rhw)),
-            );
-            keep = l.and(keep, l.cmp(Cmp::Greater, rhw, zero));
-            if clipping {
-                keep = l.and(keep, l.cmp(Cmp::LessEqual, min_z, z));
-                keep = l.and(keep, l.cmp(Cmp::LessEqual, z, max_z));
+            // Column `$c` of `Mat4::transform` (`x * m[0][c] + y * m[1][c] + z * m[2][c] +
+            // w * m[3][c]`) of vectors given as their x, y, z and w lanes.
+            macro_rules! dot {
+                ($m:expr, [$x:expr, $y:expr, $z:expr, $w:expr], $c:expr) => {
+                    l.add(
+                        l.add(
+                            l.add(l.mul($x, l.splat($m[0][$c])), l.mul($y, l.splat($m[1][$c]))),
+                            l.mul($z, l.splat($m[2][$c])),
+                        ),
+                        l.mul($w, l.splat($m[3][$c])),
+                    )
+                };
             }
+            macro_rules! transform {
+                ($m:expr, $v:expr) => {{
+                    let [x, y, z, w] = $v;
+                    [
+                        dot!($m, [x, y, z, w], 0),
+                        dot!($m, [x, y, z, w], 1),
+                        dot!($m, [x, y, z, w], 2),
+                        dot!($m, [x, y, z, w], 3),
+                    ]
+                }};
+            }
+            let position = [
+                l.bits_as_float(field!(0)),
+                l.bits_as_float(field!(4)),
+                l.bits_as_float(field!(8)),
+                if self.position_len == 4 {
+                    l.bits_as_float(field!(12))
+                } else {
+                    l.splat(1.0)
+                },
+            ];
+            // SPEC 3.1: finite coordinates (`v - v` is 0 exactly for finite `v`).
+            let [px, py, pz, pw] = position;
+            let mut keep = l.and(
+                l.and(finite!(px), finite!(py)),
+                l.and(finite!(pz), finite!(pw)),
+            );
+            let (x, y, z, de) = if self.pretransformed {
+                // w = 1/RHW positive and, with clipping, the depth inside the viewport's range.
+                keep = l.and(keep, l.cmp(Cmp::Greater, pw, zero));
+                if self.clipping {
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, l.splat(self.min_z), pz));
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, pz, l.splat(self.max_z)));
+                }
+                (px, py, pz, zero)
+            } else {
+                // `PointSetup::project`: clip w positive and finite, the depth inside
+                // `0..=w` with clipping, a finite screen position.
+                let eye = transform!(&self.matrices[0].0, position);
+                let [c0, c1, c2, c3] = transform!(&self.matrices[1].0, eye);
+                keep = l.and(
+                    l.and(keep, l.and(finite!(c0), finite!(c1))),
+                    l.and(finite!(c2), finite!(c3)),
+                );
+                keep = l.and(keep, l.cmp(Cmp::Less, zero, c3));
+                if p.clipping {
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, zero, c2));
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, c2, c3));
+                }
+                let [e0, e1, e2, _] = eye;
+                let squares = l.add(l.add(l.mul(e0, e0), l.mul(e1, e1)), l.mul(e2, e2));
+                let (one, two) = (l.splat(1.0), l.splat(2.0));
+                let x = l.mul(l.add(one, l.div(c0, c3)), l.splat(p.width));
+                let x = l.add(l.splat(p.x), l.div(x, two));
+                let y = l.mul(l.sub(one, l.div(c1, c3)), l.splat(p.height));
+                let y = l.add(l.splat(p.y), l.div(y, two));
+                let z = l.add(l.splat(p.min_z), l.mul(l.div(c2, c3), l.splat(p.depth)));
+                keep = l.and(keep, l.and(l.and(finite!(x), finite!(y)), finite!(z)));
+                (x, y, z, l.sqrt(squares))
+            };
+            let mut kept = l.bits(keep);
+            if kept == 0 {
+                index += n;
+                continue;
+            }
+            // SPEC 2.1 to 2.3: the size, its scaling and its clamp.
+            let size = match self.size {
+                Some(size) => l.splat(size),
+                None => {
+                    let si = match self.psize {
+                        Some(o) => l.bits_as_float(field!(o as u32)),
+                        None => l.splat(self.point_size),
+                    };
+                    let ss = match &scale {
+                        Some(s) => {
+                            let terms = l.add(
+                                l.add(l.splat(s.a), l.mul(l.splat(s.b), de)),
+                                l.mul(l.mul(l.splat(s.c), de), de),
+                            );
+                            let root = l.sqrt(l.div(l.splat(1.0), terms));
+                            l.mul(l.mul(l.splat(s.viewport_height), si), root)
+                        }
+                        None => si,
+                    };
+                    l.min(l.max(l.max(ss, zero), l.splat(lo)), l.splat(hi))
+                }
+            };
             // SPEC 4.1 and 3.2: `ceil` of the edges clamped to the viewport; a rectangle
             // without pixels is dropped.
-            let half = l.splat(half);
+            let half = l.div(size, l.splat(2.0));
             let (left, top) = (l.sub(x, half), l.sub(y, half));
             let edges = [left, top, l.add(x, half), l.add(y, half)];
             let mut ceiled = [zero; 4];
@@ -400,18 +493,21 @@ impl Twin {
                 let (lo, hi) = (l.splat(lower[k]), l.splat(upper[k]));
                 ceiled[k] = l.ceil(l.min(l.max(edges[k], lo), hi));
             }
-            keep = l.and(keep, l.cmp(Cmp::Less, ceiled[0], ceiled[2]));
-            keep = l.and(keep, l.cmp(Cmp::Less, ceiled[1], ceiled[3]));
-            let mut kept = l.bits(keep);
+            let covers = l.and(
+                l.cmp(Cmp::Less, ceiled[0], ceiled[2]),
+                l.cmp(Cmp::Less, ceiled[1], ceiled[3]),
+            );
+            kept &= l.bits(covers);
             if kept != 0 {
                 let mut out = [[0u32; MAX_LANES]; 4];
                 for k in 0..4 {
                     l.store_u(&mut out[k], l.float_to_int(ceiled[k]));
                 }
-                let mut floats = [[0f32; MAX_LANES]; 3];
+                let mut floats = [[0f32; MAX_LANES]; 4];
                 l.store(&mut floats[0], z);
                 l.store(&mut floats[1], left);
                 l.store(&mut floats[2], top);
+                l.store(&mut floats[3], size);
                 let mut diffuse = [pointillist_core::color::WHITE; MAX_LANES];
                 if let Some(o) = self.diffuse {
                     l.store_u(&mut diffuse, field!(o as u32));
@@ -428,7 +524,7 @@ impl Twin {
                     let square = Square {
                         rect,
                         z: floats[0][i],
-                        size,
+                        size: floats[3][i],
                         left: floats[1][i],
                         top: floats[2][i],
                         diffuse: diffuse[i],
@@ -517,30 +613,32 @@ impl Twin {
     }
 }
 
-/// [`Twin::pretransformed_lanes`] compiled for AVX2.
+/// [`Twin::batches`] compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn pretransformed_avx2<F: FnMut(u32, &Square)>(
+fn batches_avx2<F: FnMut(u32, &Square)>(
     twin: &Twin,
     l: crate::lanes::Avx2,
+    points: &PointSetup,
     vertices: &[u8],
     range: std::ops::Range<u32>,
     f: &mut F,
 ) -> u32 {
-    twin.pretransformed_lanes(l, vertices, range, f)
+    twin.batches(l, points, vertices, range, f)
 }
 
-/// [`Twin::pretransformed_lanes`] compiled for AVX-512 F and BW.
+/// [`Twin::batches`] compiled for AVX-512 F and BW.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512bw")]
-fn pretransformed_avx512<F: FnMut(u32, &Square)>(
+fn batches_avx512<F: FnMut(u32, &Square)>(
     twin: &Twin,
     l: crate::lanes::Avx512,
+    points: &PointSetup,
     vertices: &[u8],
     range: std::ops::Range<u32>,
     f: &mut F,
 ) -> u32 {
-    twin.pretransformed_lanes(l, vertices, range, f)
+    twin.batches(l, points, vertices, range, f)
 }
 
 #[cfg(test)]
