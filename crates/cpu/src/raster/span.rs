@@ -228,12 +228,8 @@ fn axis<L: Lanes, const LINEAR: bool>(
             l.cmp(Cmp::GreaterEqual, k, lowest),
             l.cmp(Cmp::LessEqual, k, highest),
         );
-        let valid = (count - span * L::N).min(L::N);
-        let lanes = if valid == 32 {
-            u32::MAX
-        } else {
-            (1u32 << valid) - 1
-        };
+        // The lanes that hold pixels (at most sixteen, so the shift is defined).
+        let lanes = (1u32 << (count - span * L::N).min(L::N)) - 1;
         if l.bits(inside) & lanes != lanes {
             return false;
         }
