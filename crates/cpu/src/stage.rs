@@ -1,11 +1,13 @@
 //! The per-point stage for the fills that need only a point's square: core's
 //! [`PointSetup::process`] (SPEC 2, 3.1, 3.2, 4.1), with a fast twin for vertices without
 //! per-pixel clip planes that resolves everything per draw and keeps nothing the fills do not
-//! read. Transformed vertices go four at a time, one vertex a lane, through a four-lane twin of
-//! [`PointSetup::project`] and [`PointSetup::size`].
+//! read. Where the CPU has AVX-512 or AVX2 ([`Level`]), vertices go N at a time, one a lane
+//! (sixteen or eight), through lane twins of core's tests, [`PointSetup::project`] and
+//! [`PointSetup::size`]; without them transformed vertices go four at a time through an SSE
+//! twin, pre-transformed ones one at a time.
 //!
-//! The twin is tested against `process` on random and hostile vertices: it drops the same
-//! points and gives the same squares, bit for bit.
+//! The twin is tested against `process` on random and hostile vertices, on every level the
+//! machine has: it drops the same points and gives the same squares, bit for bit.
 
 use pointillist_core::fvf::{read_f32, read_u32};
 use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
@@ -41,7 +43,7 @@ impl From<&ScreenPoint> for Square {
 }
 
 /// The squares of a draw's vertices, from the twin where it applies and from core's stage
-/// otherwise; pre-transformed vertices of one size N at a time on `lanes`, when given.
+/// otherwise; N at a time on `lanes`, when given.
 pub(crate) struct SquareStage {
     twin: Option<Twin>,
     lanes: Option<Level>,
