@@ -208,13 +208,16 @@ impl Level {
 
     /// Every level the CPU supports, narrowest first (for the tests, which run each).
     pub(crate) fn available() -> Vec<Level> {
-        let mut levels = vec![Level::Portable];
         #[cfg(target_arch = "x86_64")]
-        {
-            levels.extend(Avx2::new().map(Level::Avx2));
-            levels.extend(Avx512::new().map(Level::Avx512));
-        }
-        levels
+        let wide = [
+            Avx2::new().map(Level::Avx2),
+            Avx512::new().map(Level::Avx512),
+        ];
+        #[cfg(not(target_arch = "x86_64"))]
+        let wide: [Option<Level>; 0] = [];
+        std::iter::once(Level::Portable)
+            .chain(wide.into_iter().flatten())
+            .collect()
     }
 }
 

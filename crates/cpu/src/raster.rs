@@ -565,10 +565,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         })
     });
     let points = PointSetup::new(state, fvf);
-    let spans = match LanesLevel::detect() {
-        LanesLevel::Portable => None,
-        level => Some(level),
-    };
+    let spans = Some(LanesLevel::detect()).filter(|l| !matches!(l, LanesLevel::Portable));
     let mut ctx = DrawContext {
         binned: false,
         squares: SquareStage::new(&points, spans),
