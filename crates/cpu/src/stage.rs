@@ -110,47 +110,53 @@ pub(crate) struct Twin {
     upper: [f32; 4],
     /// The vertex holds 16 bytes from its position on, read at once.
     load16: bool,
-    /// Depth clipping (SPEC 3.1) and the viewport's depth range, for pre-transformed vertices.
-    clipping: bool,
-    min_z: f32,
-    max_z: f32,
-    /// For transformed vertices.
+    /// The matrices, viewport and clipping of the draw.
     projector: Projector,
-    /// WORLD * VIEW and PROJECTION, for the batches.
-    matrices: [pointillist_core::math::Mat4; 2],
 }
 
-/// [`PointSetup::project`] (SPEC 1, 2.2, 3.1) of four vertices, one a lane: every lane the same
-/// products, sums and divisions, in the same order, so the same bits.
+/// What [`PointSetup::project`] (SPEC 1, 2.2, 3.1) and the pre-transformed depth test read,
+/// resolved per draw; [`Projector::project4`] projects four vertices, one a lane: every lane
+/// the same products, sums and divisions, in the same order, so the same bits.
 struct Projector {
-    /// Every element of WORLD * VIEW and of PROJECTION in all four lanes.
-    world_view: [[F4; 4]; 4],
-    projection: [[F4; 4]; 4],
+    /// WORLD * VIEW and PROJECTION (rows).
+    world_view: [[f32; 4]; 4],
+    projection: [[f32; 4]; 4],
+    /// D3DRS_CLIPPING (SPEC 3.1).
     clipping: bool,
-    /// Viewport x, y, width, height as floats, min z, and max z - min z.
+    /// Viewport x, y, width, height as floats, min z, max z, and max z - min z.
     x: f32,
     y: f32,
     width: f32,
     height: f32,
     min_z: f32,
+    max_z: f32,
     depth: f32,
 }
 
+/// WORLD * VIEW and PROJECTION, every element in all four lanes.
+type Matrices4 = [[[F4; 4]; 4]; 2];
+
 impl Projector {
     fn new(points: &PointSetup) -> Projector {
-        let splat = |m: &pointillist_core::math::Mat4| m.0.map(|row| row.map(F4::splat));
         let vp = points.viewport();
         Projector {
-            world_view: splat(points.world_view()),
-            projection: splat(points.projection()),
+            world_view: points.world_view().0,
+            projection: points.projection().0,
             clipping: points.clipping(),
             x: vp.x as f32,
             y: vp.y as f32,
             width: vp.width as f32,
             height: vp.height as f32,
             min_z: vp.min_z,
+            max_z: vp.max_z,
             depth: vp.max_z - vp.min_z,
         }
+    }
+
+    /// WORLD * VIEW and PROJECTION with every element in all four lanes, for
+    /// [`Projector::project4`] (made once per batch of vertices, not per vertex).
+    fn splat4(&self) -> Matrices4 {
+        [self.world_view, self.projection].map(|m| m.map(|row| row.map(F4::splat)))
     }
 
     /// `Mat4::transform` (`v[0] * m[0][c] + v[1] * m[1][c] + v[2] * m[2][c] + v[3] * m[3][c]`)
@@ -165,12 +171,13 @@ impl Projector {
         })
     }
 
-    /// [`PointSetup::project`] of four finite positions given as their x, y, z and w lanes: the
-    /// screen x, y, z and eye distance lanes, and bit `i` set where vertex `i` is kept.
+    /// [`PointSetup::project`] of four finite positions given as their x, y, z and w lanes
+    /// through `matrices` ([`Projector::splat4`]): the screen x, y, z and eye distance lanes,
+    /// and bit `i` set where vertex `i` is kept.
     #[inline(always)]
-    fn project4(&self, position: [F4; 4]) -> ([F4; 4], u32) {
-        let eye = Self::transform4(&self.world_view, position);
-        let [c0, c1, c2, c3] = Self::transform4(&self.projection, eye);
+    fn project4(&self, [world_view, projection]: &Matrices4, position: [F4; 4]) -> ([F4; 4], u32) {
+        let eye = Self::transform4(world_view, position);
+        let [c0, c1, c2, c3] = Self::transform4(projection, eye);
         let zero = F4::splat(0.0);
         let mut keep = c0.finite_mask() & c1.finite_mask() & c2.finite_mask() & c3.finite_mask();
         keep &= zero.lt_mask(c3);
@@ -211,11 +218,7 @@ impl Twin {
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
             load16: layout.stride >= 16,
-            clipping: points.clipping(),
-            min_z: points.viewport().min_z,
-            max_z: points.viewport().max_z,
             projector: Projector::new(points),
-            matrices: [*points.world_view(), *points.projection()],
         })
     }
 
@@ -306,9 +309,10 @@ impl Twin {
         range: std::ops::Range<u32>,
         f: &mut impl FnMut(u32, &Square),
     ) {
+        let matrices = self.projector.splat4();
         let mut index = range.start;
         while range.end - index >= 4 {
-            let squares = self.squares4(points, vertices, index);
+            let squares = self.squares4(points, &matrices, vertices, index);
             for (k, square) in squares.iter().enumerate() {
                 if let Some(s) = square {
                     f(index + k as u32, s);
@@ -428,16 +432,16 @@ impl Twin {
             let (x, y, z, de) = if self.pretransformed {
                 // w = 1/RHW positive and, with clipping, the depth inside the viewport's range.
                 keep = l.and(keep, l.cmp(Cmp::Greater, pw, zero));
-                if self.clipping {
-                    keep = l.and(keep, l.cmp(Cmp::LessEqual, l.splat(self.min_z), pz));
-                    keep = l.and(keep, l.cmp(Cmp::LessEqual, pz, l.splat(self.max_z)));
+                if p.clipping {
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, l.splat(p.min_z), pz));
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, pz, l.splat(p.max_z)));
                 }
                 (px, py, pz, zero)
             } else {
                 // `PointSetup::project`: clip w positive and finite, the depth inside
                 // `0..=w` with clipping, a finite screen position.
-                let eye = transform!(&self.matrices[0].0, position);
-                let [c0, c1, c2, c3] = transform!(&self.matrices[1].0, eye);
+                let eye = transform!(&p.world_view, position);
+                let [c0, c1, c2, c3] = transform!(&p.projection, eye);
                 keep = l.and(
                     l.and(keep, l.and(finite!(c0), finite!(c1))),
                     l.and(finite!(c2), finite!(c3)),
@@ -543,14 +547,20 @@ impl Twin {
     /// time: every lane the same operations (the drops ANDed into one mask), so the same
     /// squares.
     #[inline(always)]
-    fn squares4(&self, points: &PointSetup, vertices: &[u8], index: u32) -> [Option<Square>; 4] {
+    fn squares4(
+        &self,
+        points: &PointSetup,
+        matrices: &Matrices4,
+        vertices: &[u8],
+        index: u32,
+    ) -> [Option<Square>; 4] {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + 4 * self.stride];
         let vertex = |i: usize| &v[i * self.stride..(i + 1) * self.stride];
         let position = F4::transpose(std::array::from_fn(|i| self.position(vertex(i))));
         // SPEC 3.1: finite coordinates, then the projection's drops and a finite screen position.
         let mut keep = position.iter().fold(0xF, |k, c| k & c.finite_mask());
-        let ([x, y, z, de], kept) = self.projector.project4(position);
+        let ([x, y, z, de], kept) = self.projector.project4(matrices, position);
         keep &= kept & x.finite_mask() & y.finite_mask() & z.finite_mask();
         if keep == 0 {
             return [None; 4];
