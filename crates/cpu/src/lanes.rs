@@ -134,11 +134,20 @@ pub(crate) trait Lanes: Copy + Send + Sync {
 
     /// SPEC 1's unpack of the byte at bit `SHIFT` of each D3DCOLOR: `byte * (1 / 255)`.
     fn channel<const SHIFT: u32>(self, px: Self::U) -> Self::F;
-    /// SPEC 1's float to unorm8: saturate (NaN counts as 0), scale by 255, round half up.
-    fn round_unorm(self, v: Self::F) -> Self::U;
-    /// [`Lanes::round_unorm`] of values within 1/512 of the unit interval, where the
-    /// saturation cannot change the result (`v * 255` is within 255/512 of `0..=255`, under
-    /// the half step): the products and lerps of unpacked bytes the span fills quantize.
+    /// SPEC 1's unpack of the four channels (blue, green, red, alpha) of each D3DCOLOR.
+    #[inline(always)]
+    fn unpack(self, px: Self::U) -> [Self::F; 4] {
+        [
+            self.channel::<0>(px),
+            self.channel::<8>(px),
+            self.channel::<16>(px),
+            self.channel::<24>(px),
+        ]
+    }
+    /// SPEC 1's float to unorm8 (`color::f32_to_unorm8`: saturate, scale by 255, round half
+    /// up) of values within 1/512 of the unit interval, where the saturation cannot change the
+    /// result (`v * 255` is within 255/512 of `0..=255`, under the half step): the products
+    /// and lerps of unpacked bytes the span fills quantize.
     fn round_unit(self, v: Self::F) -> Self::U;
     /// [`Lanes::round_unit`] as f32 (the bytes are exact).
     fn round_unit_f(self, v: Self::F) -> Self::F;
@@ -353,16 +362,12 @@ impl Lanes for Portable {
         px.map(|p| unorm8_to_f32((p >> SHIFT) as u8))
     }
     #[inline(always)]
-    fn round_unorm(self, v: [f32; 8]) -> [u32; 8] {
+    fn round_unit(self, v: [f32; 8]) -> [u32; 8] {
         v.map(|x| u32::from(f32_to_unorm8(x)))
     }
     #[inline(always)]
-    fn round_unit(self, v: [f32; 8]) -> [u32; 8] {
-        self.round_unorm(v)
-    }
-    #[inline(always)]
     fn round_unit_f(self, v: [f32; 8]) -> [f32; 8] {
-        self.round_unorm(v).map(|t| t as f32)
+        self.round_unit(v).map(|t| t as f32)
     }
     #[inline(always)]
     fn pack(self, [b, g, r, a]: [[u32; 8]; 4]) -> [u32; 8] {
@@ -589,26 +594,11 @@ mod x86 {
             }
         }
         #[inline(always)]
-        fn round_unorm(self, v: __m256) -> __m256i {
-            unsafe {
-                // `v.clamp(0.0, 1.0) * 255.0`; maxps returns its second operand for NaN, so
-                // NaN becomes 0, as the scalar `as u8` gives.
-                let x = _mm256_mul_ps(
-                    _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), _mm256_set1_ps(1.0)),
-                    _mm256_set1_ps(255.0),
-                );
-                // Truncate, then add one where `x - trunc(x) >= 0.5` (the mask is -1).
-                let t = _mm256_cvttps_epi32(x);
-                let frac = _mm256_sub_ps(x, _mm256_cvtepi32_ps(t));
-                let up = _mm256_cmp_ps::<_CMP_GE_OQ>(frac, _mm256_set1_ps(0.5));
-                _mm256_sub_epi32(t, _mm256_castps_si256(up))
-            }
-        }
-        #[inline(always)]
         fn round_unit(self, v: __m256) -> __m256i {
             unsafe {
-                // `round_unorm` without the clamp: `x` is above -0.5, where truncation gives 0
-                // and the fraction is negative, so no lane rounds up to 1.
+                // Truncate, then add one where `x - trunc(x) >= 0.5` (the mask is -1). No clamp:
+                // `x` is above -0.5, where truncation gives 0 and the fraction is negative, so no
+                // lane rounds up to 1.
                 let x = _mm256_mul_ps(v, _mm256_set1_ps(255.0));
                 let t = _mm256_cvttps_epi32(x);
                 let frac = _mm256_sub_ps(x, _mm256_cvtepi32_ps(t));
@@ -889,24 +879,12 @@ mod x86 {
             }
         }
         #[inline(always)]
-        fn round_unorm(self, v: __m512) -> __m512i {
-            unsafe {
-                // `v.clamp(0.0, 1.0) * 255.0`, NaN to 0 as in the AVX2 twin.
-                let x = _mm512_mul_ps(
-                    _mm512_min_ps(_mm512_max_ps(v, _mm512_setzero_ps()), _mm512_set1_ps(1.0)),
-                    _mm512_set1_ps(255.0),
-                );
-                // Round half up is `floor(x + 0.5)` of the exact sum. The sum rounded toward
-                // negative infinity has the same floor: it is the largest float not above the
-                // exact sum, and the integer `floor(x + 0.5)` is such a float.
-                let s = _mm512_add_round_ps::<DOWN>(x, _mm512_set1_ps(0.5));
-                _mm512_cvt_roundps_epi32::<DOWN>(s)
-            }
-        }
-        #[inline(always)]
         fn round_unit(self, v: __m512) -> __m512i {
             unsafe {
-                // `round_unorm` without the clamp: `x + 0.5` stays in `0..256`.
+                // Round half up is `floor(x + 0.5)` of the exact sum. The sum rounded toward
+                // negative infinity has the same floor: it is the largest float not above the
+                // exact sum, and the integer `floor(x + 0.5)` is such a float. No clamp: `x +
+                // 0.5` stays in `0..256`.
                 let x = _mm512_mul_ps(v, _mm512_set1_ps(255.0));
                 let s = _mm512_add_round_ps::<DOWN>(x, _mm512_set1_ps(0.5));
                 _mm512_cvt_roundps_epi32::<DOWN>(s)
@@ -1179,7 +1157,6 @@ mod tests {
                     f(l, l.channel::<24>(pu)),
                     p.channel::<24>(ppu),
                 );
-                same_u("round_unorm", u(l, l.round_unorm(la)), p.round_unorm(fa));
                 let near: [f32; MAX_LANES] = std::array::from_fn(|i| {
                     if a[i].abs() <= 1.0 + UNIT_SLACK {
                         a[i].abs()
@@ -1190,12 +1167,12 @@ mod tests {
                 same_u(
                     "round_unit",
                     u(l, l.round_unit(l.load(&near))),
-                    p.round_unorm(p.load(&near[r.clone()])),
+                    p.round_unit(p.load(&near[r.clone()])),
                 );
                 same_f(
                     "round_unit_f",
                     f(l, l.round_unit_f(l.load(&near))),
-                    p.round_unorm(p.load(&near[r.clone()])).map(|t| t as f32),
+                    p.round_unit(p.load(&near[r.clone()])).map(|t| t as f32),
                 );
                 let q = [bu, l.load_u(&bytes[1..]), l.load_u(&bytes[..]), bu];
                 let pq = [
@@ -1250,7 +1227,6 @@ mod tests {
         for byte in 0..=255u32 {
             let v = p.channel::<16>([byte << 16; 8]);
             assert_eq!(v, [unorm8_to_f32(byte as u8); 8]);
-            assert_eq!(p.round_unorm(v), [byte; 8]);
             assert_eq!(p.round_unit(v), [byte; 8]);
             assert_eq!(p.round_unit_f(v), [byte as f32; 8]);
         }

@@ -173,12 +173,7 @@ impl Blender for SourceAlpha {
         // The source quantized (SPEC 1) and unpacked again, without the packing between.
         let unit = l.splat(1.0 / 255.0);
         let s = channels!(|c| l.mul(l.round_unit_f(shaded[c]), unit));
-        let d = [
-            l.channel::<0>(dst),
-            l.channel::<8>(dst),
-            l.channel::<16>(dst),
-            l.channel::<24>(dst),
-        ];
+        let d = l.unpack(dst);
         let fd = l.sub(l.splat(1.0), s[3]);
         // `s * a + d * (1 - a)` of unpacked bytes stays within `round_unit`'s domain.
         l.pack(channels!(
@@ -851,26 +846,27 @@ impl Binned for Sprite {
         };
         let (packed, unpacked) = (&f.level().texels[..], &t.unpacked[..]);
         let linear = f.is_linear();
+        // The wide spans' vectors and level, decided once for the band.
+        let wide = ctx.spans.zip(t.planar.as_ref());
         macro_rules! each {
             ($linear:literal, $texels:expr) => {
                 for p in points {
                     let view = p.view();
-                    if let (Some(lanes), Some(planar)) = (ctx.spans, &t.planar) {
-                        if view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
-                            && span::fill(
-                                lanes,
-                                linear,
-                                ctx,
-                                b,
-                                &view,
-                                band,
-                                &mut s.span,
-                                alpha,
-                                planar,
-                            )
-                        {
-                            continue;
-                        }
+                    if let Some((lanes, planar)) = wide
+                        && view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
+                        && span::fill(
+                            lanes,
+                            linear,
+                            ctx,
+                            b,
+                            &view,
+                            band,
+                            &mut s.span,
+                            alpha,
+                            planar,
+                        )
+                    {
+                        continue;
                     }
                     let level = LevelTexels {
                         sampler: f,

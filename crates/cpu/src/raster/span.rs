@@ -23,6 +23,7 @@
 #![allow(unsafe_code)]
 
 use pointillist_core::color::unpack;
+use pointillist_core::pixel::PixelSetup;
 use pointillist_core::states::Cmp;
 use pointillist_core::texture::{COORD_LIMIT, Level as TextureLevel, SamplerDesc, fetch};
 
@@ -96,14 +97,6 @@ pub(super) struct SpanScratch {
     /// the second.
     y: Vec<u32>,
     fy: Vec<f32>,
-}
-
-/// The states a span applies after the shading, resolved per draw.
-#[derive(Copy, Clone)]
-struct Tests {
-    alpha: Option<(Cmp, u8)>,
-    depth: Option<pointillist_core::pixel::DepthSetup>,
-    mask: u32,
 }
 
 /// Fills the pixels of sprite `p` inside `band` on the widest `level` (SPEC 4.3, 5.1 to 5.6);
@@ -286,11 +279,7 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
     let d = unpack(p.diffuse);
     let m = [d[2], d[1], d[0], d[3]];
     let m = channels!(|c| l.splat(m[c]));
-    let tests = Tests {
-        alpha: ctx.pixel.alpha_test,
-        depth: ctx.pixel.depth,
-        mask: ctx.pixel.write_mask,
-    };
+    let tests = &ctx.pixel;
     let pitch = band.width;
     let origin = (rows.start - band.y0) as usize * pitch + p.rect.x0 as usize;
     let spans = x
@@ -400,26 +389,12 @@ fn filter<L: Lanes, const LINEAR: bool>(
     }
     // Rows too long to gather from registers: one gather of packed texels per side.
     let packed = &texels.packed[y * texels.pitch..][..texels.pitch];
-    let (p0, p1) = (l.gather_u(packed, i0), l.gather_u(packed, i1));
-    channels!(|c| {
-        let a = channel(l, p0, c);
-        if LINEAR {
-            l.lerp(a, channel(l, p1, c), w)
-        } else {
-            a
-        }
-    })
-}
-
-/// Channel `c` (blue, green, red, alpha) of D3DCOLORs `px`, unpacked (SPEC 1).
-#[inline(always)]
-fn channel<L: Lanes>(l: L, px: L::U, c: usize) -> L::F {
-    match c {
-        0 => l.channel::<0>(px),
-        1 => l.channel::<8>(px),
-        2 => l.channel::<16>(px),
-        _ => l.channel::<24>(px),
+    let a = l.unpack(l.gather_u(packed, i0));
+    if !LINEAR {
+        return a;
     }
+    let b = l.unpack(l.gather_u(packed, i1));
+    channels!(|c| l.lerp(a[c], b[c], w))
 }
 
 /// Tests, blend and mask (SPEC 5.3 to 5.6, as `write_pixel`) of the pixels `color` at depths
@@ -427,7 +402,7 @@ fn channel<L: Lanes>(l: L, px: L::U, c: usize) -> L::F {
 #[inline(always)]
 fn pixels<L: Lanes, B: Blender, const PART: bool>(
     l: L,
-    tests: Tests,
+    tests: &PixelSetup,
     b: &B,
     shaded: [L::F; 4],
     z: f32,
@@ -462,7 +437,7 @@ fn pixels<L: Lanes, B: Blender, const PART: bool>(
 #[inline(always)]
 fn span_pixels<L: Lanes, B: Blender>(
     l: L,
-    tests: Tests,
+    tests: &PixelSetup,
     b: &B,
     shaded: [L::F; 4],
     z: f32,
@@ -470,7 +445,7 @@ fn span_pixels<L: Lanes, B: Blender>(
     stored: Option<L::F>,
 ) -> (L::U, Option<L::F>) {
     let mut pass = None;
-    if let Some((func, reference)) = tests.alpha {
+    if let Some((func, reference)) = tests.alpha_test {
         let alpha = l.round_unit(shaded[3]);
         pass = Some(l.cmp_u(func, alpha, l.splat_u(u32::from(reference))));
     }
@@ -484,8 +459,8 @@ fn span_pixels<L: Lanes, B: Blender>(
         pass = Some(passes);
     }
     let mut new = b.blend_lanes(l, shaded, old);
-    if tests.mask != u32::MAX {
-        new = l.write_masked(tests.mask, new, old);
+    if tests.write_mask != u32::MAX {
+        new = l.write_masked(tests.write_mask, new, old);
     }
     if let Some(pass) = pass {
         new = l.select(pass, new, old);
