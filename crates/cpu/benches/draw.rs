@@ -1,11 +1,12 @@
-//! Baseline benches of the CPU backend: seed 004's textured ring, and 1M small additive sprites
-//! (workload W1 of the performance issue). Run with `cargo bench -p pointillist-cpu`.
+//! Baseline bench of the CPU backend: seed 004's textured ring. Run with `cargo bench -p
+//! pointillist-cpu`. The performance issue's workloads W1 to W4 are `cargo bench -p
+//! pointillist-bench`, from the same generator as `pointillist bench`.
 
 use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use pointillist_core::device::{DeviceDesc, TransformType, XyzPsizeDiffuse, XyzRhwDiffuse};
+use pointillist_core::device::{DeviceDesc, TransformType, XyzPsizeDiffuse};
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Blend, RenderState, SamplerState, TextureFilter};
 use pointillist_core::texture::Texture;
@@ -70,31 +71,6 @@ fn ring_device() -> CpuDevice {
     d
 }
 
-/// W1: 1,000,000 pre-transformed 4-pixel points, flat colours, ONE/ONE, 1024x768.
-fn small_sprites() -> Vec<XyzRhwDiffuse> {
-    let mut seed = 0x2545_F491_4F6C_DD1Du64;
-    let mut next = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        seed
-    };
-    (0..1_000_000)
-        .map(|_| {
-            let r = next();
-            XyzRhwDiffuse {
-                position: [
-                    (r % 1024) as f32 + 0.25,
-                    ((r >> 16) % 768) as f32 + 0.25,
-                    0.5,
-                    1.0,
-                ],
-                diffuse: 0xFF00_0000 | (r >> 32) as u32 & 0x003F_3F3F,
-            }
-        })
-        .collect()
-}
-
 fn benches(c: &mut Criterion) {
     let ring = ring_vertices();
     let mut device = ring_device();
@@ -102,21 +78,6 @@ fn benches(c: &mut Criterion) {
     group.throughput(Throughput::Elements(ring.len() as u64));
     group.bench_function("12 textured sprites 640x480", |b| {
         b.iter(|| device.draw_vertices(black_box(&ring)).expect("draw"))
-    });
-    group.finish();
-
-    let sprites = small_sprites();
-    let mut device = pointillist_cpu::device(DeviceDesc::new(1024, 768)).expect("device");
-    device.set_render_state(RenderState::POINTSIZE, 4.0f32);
-    device.set_render_state(RenderState::ZENABLE, false);
-    device.set_render_state(RenderState::ALPHABLENDENABLE, true);
-    device.set_render_state(RenderState::SRCBLEND, Blend::One);
-    device.set_render_state(RenderState::DESTBLEND, Blend::One);
-    let mut group = c.benchmark_group("w1");
-    group.sample_size(10);
-    group.throughput(Throughput::Elements(sprites.len() as u64));
-    group.bench_function("1M 4px additive sprites 1024x768", |b| {
-        b.iter(|| device.draw_vertices(black_box(&sprites)).expect("draw"))
     });
     group.finish();
 }
