@@ -205,7 +205,7 @@ impl Workload {
         let points = PointSetup::new(device.state(), self.fvf);
         Ok((0..self.points as u32)
             .filter_map(|i| points.process(&self.vertices, i))
-            .map(|p| (p.rect.x1 - p.rect.x0) as u64 * (p.rect.y1 - p.rect.y0) as u64)
+            .map(|p| p.rect.area())
             .sum())
     }
 

@@ -370,8 +370,7 @@ impl DrawContext<'_> {
         let mut pixels = 0u64;
         self.squares
             .for_each(&self.points, self.vertices, 0..count, |_, s| {
-                let r = s.rect;
-                pixels += (r.x1 - r.x0) as u64 * (r.y1 - r.y0) as u64;
+                pixels += s.rect.area();
             });
         pixels >= PARALLEL_MIN_PIXELS
     }
