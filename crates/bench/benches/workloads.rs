@@ -1,4 +1,4 @@
-//! The performance issue's workloads W1 to W4 under criterion: the same points, states and
+//! The workloads W1 to W4 of docs/PERFORMANCE.md under criterion: the same points, states and
 //! frames (a clear and the draw) as `pointillist bench`, from `pointillist_bench::workloads`.
 //! Run with `cargo bench -p pointillist-bench`; `POINTILLIST_LANES` and `RAYON_NUM_THREADS`
 //! apply as for `pointillist bench`.

@@ -1,9 +1,9 @@
 //! Benchmark workloads of pointillist and the peers they are measured against.
 //!
 //! This crate is outside the library's dependency graph: only the `pointillist` binary and the
-//! benches use it. [`workloads`] builds the performance issue's workloads W1..W4 from fixed seeds;
-//! [`run`] times them on pointillist's CPU backend, on Mesa llvmpipe ([`llvmpipe`], OpenGL point
-//! sprites through a surfaceless EGL context) and, for W1, on a naive single-thread splat
+//! benches use it. [`workloads`] builds the workloads W1..W4 of docs/PERFORMANCE.md from fixed
+//! seeds; [`run`] times them on pointillist's CPU backend, on Mesa llvmpipe ([`llvmpipe`], OpenGL
+//! point sprites through a surfaceless EGL context) and, for W1, on a naive single-thread splat
 //! ([`naive`]), and reports per-frame medians.
 
 pub mod llvmpipe;

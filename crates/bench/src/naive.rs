@@ -1,4 +1,4 @@
-//! The naive single-thread splat the performance issue compares against: W1 drawn with the
+//! The naive single-thread splat docs/PERFORMANCE.md compares against: W1 drawn with the
 //! simplest correct loop (SPEC 4.1 coverage, saturating add), no pipeline.
 
 use std::convert::Infallible;

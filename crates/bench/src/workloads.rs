@@ -1,4 +1,4 @@
-//! The performance issue's workloads, generated from fixed seeds so every run and every renderer
+//! The workloads of docs/PERFORMANCE.md, generated from fixed seeds so every run and every renderer
 //! draws the same points.
 //!
 //! - W1 small sprites: pre-transformed 4 px points, flat colours, ONE/ONE, 1024x768.

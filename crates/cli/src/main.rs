@@ -44,8 +44,8 @@ Examples:
 
 A scene file is a TOML transcription of a D3D9 program: `[states] POINTSIZE = 15.0` is
 SetRenderState(D3DRS_POINTSIZE, 15.0f), each `[[draw]]` a DrawPrimitiveUP(D3DPT_POINTLIST, ...).
-The format is described in shared/SCENE.md, the rules pointillist follows in shared/SPEC.md;
-particle emitters and animations in docs/SCENE.md.";
+The format is described in docs/spec/SCENE.md, the rules pointillist follows in docs/spec/SPEC.md;
+particle emitters and animations in docs/spec/PARTICLES.md.";
 
 /// The long description of `pointillist render --help`.
 const RENDER_LONG_ABOUT: &str = "\
@@ -70,7 +70,7 @@ Examples:
   pointillist render my_scene.toml -o out/my_scene.png --backend gpu
   pointillist render scenes/fireworks.toml -o fireworks.png --frame 60
 
-The scene format is described in shared/SCENE.md.";
+The scene format is described in docs/spec/SCENE.md.";
 
 /// The long description of `pointillist caps --help`.
 const CAPS_LONG_ABOUT: &str = "\
@@ -147,7 +147,7 @@ Examples:
   pointillist animate scenes/fire_smoke.toml -o frames/fire_%04d.png --frames 30
   pointillist animate scenes/starfield.toml -o starfield.mp4
 
-Emitters and [animation] are described in docs/SCENE.md.";
+Emitters and [animation] are described in docs/spec/PARTICLES.md.";
 
 /// The long description of `pointillist view --help`.
 const VIEW_LONG_ABOUT: &str = "\
@@ -185,7 +185,7 @@ pub enum AnimationFormat {
 /// Arguments of `pointillist animate`.
 #[derive(Debug, Args)]
 pub struct AnimateArgs {
-    /// The scene file (TOML with `[[emitter]]` and `[animation]`, see docs/SCENE.md).
+    /// The scene file (TOML with `[[emitter]]` and `[animation]`, see docs/spec/PARTICLES.md).
     #[arg(value_name = "SCENE")]
     pub scene: PathBuf,
     /// The file to write: .gif, .png or .apng, a %d pattern such as frames/%04d.png, or .mp4.
@@ -242,7 +242,7 @@ impl BackendKind {
 /// Arguments of `pointillist render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// The scene file (TOML, see shared/SCENE.md).
+    /// The scene file (TOML, see docs/spec/SCENE.md).
     #[arg(value_name = "SCENE")]
     pub scene: PathBuf,
     /// The PNG file to write (RGBA8, the target's exact bytes).

@@ -361,7 +361,7 @@ fn help_and_version_succeed_on_stdout() {
         text.contains("pointillist render scenes/ring.toml -o ring.png"),
         "{text}"
     );
-    assert!(text.contains("shared/SCENE.md"), "{text}");
+    assert!(text.contains("docs/spec/SCENE.md"), "{text}");
 
     let out = pointillist(&["render", "--help"]);
     assert!(out.status.success());
@@ -437,7 +437,7 @@ fn the_readme_picture_is_what_the_readme_command_renders() {
     );
 }
 
-/// Every hostile scene of issue 6 (docs/RELIABILITY.md): `render` and `animate` each answer one
+/// Every hostile scene of docs/RELIABILITY.md: `render` and `animate` each answer one
 /// line `error: FILE:LINE:COLUMN: KEY: ...` with exit status 1, and leave an existing output
 /// untouched and no temporary file behind.
 #[test]

@@ -682,7 +682,8 @@ impl Vertex for XyzDiffuse {
     }
 }
 
-/// D3DFVF_XYZ | D3DFVF_PSIZE | D3DFVF_DIFFUSE: the vertex of seed 004's tutorial.
+/// D3DFVF_XYZ | D3DFVF_PSIZE | D3DFVF_DIFFUSE: the vertex of the point-sprite tutorial
+/// (docs/spec/SOURCES.md).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct XyzPsizeDiffuse {
     /// Object-space position.

@@ -1,10 +1,11 @@
 //! The Direct3D 9 point-sprite rules of pointillist.
 //!
-//! This crate holds every rule of SPEC.md that does not depend on how pixels are produced: render
-//! states and their defaults, device caps, vertex formats, D3D-convention matrices, the per-point
-//! stage (transform, size, clamp, clip, screen square, sprite coordinates), textures and their
-//! sampling, and the fixed-function pixel arithmetic. Backends (`pointillist-cpu`, the GPU
-//! backend) call these functions and are tested against them.
+//! This crate holds every rule of the specification (docs/spec/SPEC.md in the repository; the
+//! documentation cites its rules as "SPEC n.m", section n, item m) that does not depend on how
+//! pixels are produced: render states and their defaults, device caps, vertex formats,
+//! D3D-convention matrices, the per-point stage (transform, size, clamp, clip, screen square,
+//! sprite coordinates), textures and their sampling, and the fixed-function pixel arithmetic.
+//! Backends (`pointillist-cpu`, the GPU backend) call these functions and are tested against them.
 
 pub mod caps;
 pub mod color;

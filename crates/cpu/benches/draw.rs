@@ -1,6 +1,6 @@
-//! Baseline bench of the CPU backend: seed 004's textured ring. Run with `cargo bench -p
-//! pointillist-cpu`. The performance issue's workloads W1 to W4 are `cargo bench -p
-//! pointillist-bench`, from the same generator as `pointillist bench`.
+//! Baseline bench of the CPU backend: the point-sprite tutorial's textured ring. Run with
+//! `cargo bench -p pointillist-cpu`. The workloads W1 to W4 of docs/PERFORMANCE.md are
+//! `cargo bench -p pointillist-bench`, from the same generator as `pointillist bench`.
 
 use std::hint::black_box;
 use std::sync::Arc;

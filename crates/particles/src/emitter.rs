@@ -361,7 +361,7 @@ pub enum BlendMode {
     Opaque,
     /// `SRCALPHA`, `INVSRCALPHA`: ordinary transparency (smoke).
     Alpha,
-    /// `ONE`, `ONE`: light adds up, order does not matter (seed 004's snow; stars).
+    /// `ONE`, `ONE`: light adds up, order does not matter (the tutorial's snow; stars).
     #[default]
     Additive,
     /// `SRCALPHA`, `ONE`: additive light faded by alpha (fire, sparks).

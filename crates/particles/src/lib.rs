@@ -1,14 +1,14 @@
 //! Particle systems for pointillist, drawn as Direct3D 9 point sprites.
 //!
-//! Seed 004 explains why particle systems use point sprites: a snow storm is thousands of
-//! identical flakes, each one vertex with a position, a size and a colour, which the point
-//! sprite pipeline turns into textured squares facing the camera. This crate makes those
-//! vertices: [`Emitter`]s give birth to particles (continuously and in bursts, from a point, box,
-//! sphere, disc or line), forces move them (gravity, wind through drag, turbulence), curves
-//! change their size and colour over their life, and a [`ParticleSystem`] writes them as an
-//! `XYZ | PSIZE | DIFFUSE` point list to draw with
-//! [`Device::draw_point_list`](pointillist_core::device::Device::draw_point_list) on any
-//! backend, with each emitter's render states.
+//! The point-sprite tutorial (docs/spec/SOURCES.md) explains why particle systems use point
+//! sprites: a snow storm is thousands of identical flakes, each one vertex with a position, a size
+//! and a colour, which the point sprite pipeline turns into textured squares facing the camera.
+//! This crate makes those vertices: [`Emitter`]s give birth to particles (continuously and in
+//! bursts, from a point, box, sphere, disc or line), forces move them (gravity, wind through drag,
+//! turbulence), curves change their size and colour over their life, and a [`ParticleSystem`]
+//! writes them as an `XYZ | PSIZE | DIFFUSE` point list to draw with
+//! [`Device::draw_point_list`](pointillist_core::device::Device::draw_point_list) on any backend,
+//! with each emitter's render states.
 //!
 //! The simulation uses a fixed time step and per-particle random numbers derived from
 //! `(seed, emitter, spawn index)`, so the same seed gives the same frames on any machine and

@@ -118,11 +118,11 @@ pub fn textures() -> Vec<(&'static str, Texture)> {
     ]
 }
 
-/// Seed 004's snow storm: `flakes` identical flakes (one texture) falling at different speeds
-/// through a 50 x 15 x 44 m volume centred on `(0, 7, 5)`, pushed by wind and turbulence, drawn
-/// additively (`ONE`, `ONE`) with distance scaling. At the steady state, reached after about 16
-/// simulated seconds, `flakes` are alive. Look at it from about `(0, 4, -20)` towards
-/// `(0, 4, 0)` with a 60 degree field of view ([`snow_storm_camera`]).
+/// The point-sprite tutorial's snow storm: `flakes` identical flakes (one texture) falling at
+/// different speeds through a 50 x 15 x 44 m volume centred on `(0, 7, 5)`, pushed by wind and
+/// turbulence, drawn additively (`ONE`, `ONE`) with distance scaling. At the steady state, reached
+/// after about 16 simulated seconds, `flakes` are alive. Look at it from about `(0, 4, -20)`
+/// towards `(0, 4, 0)` with a 60 degree field of view ([`snow_storm_camera`]).
 pub fn snow_storm(flakes: usize, texture: Option<Arc<Texture>>) -> Emitter {
     let flakes = flakes.max(1);
     Emitter {

@@ -1,5 +1,5 @@
 //! The pointillist scene file: a TOML transcription of a D3D9 point-sprite program
-//! (`/work/shared/SCENE.md` is the format's contract).
+//! (`docs/spec/SCENE.md` is the format's contract).
 //!
 //! # Contract
 //! - [`load`] reads a scene file; [`parse`] reads scene text, with the file name used in errors
@@ -18,7 +18,7 @@
 //! - Every error is a [`SceneError`] naming `file:line:column`, the key path (like
 //!   `draw[2].states.POINTSIZE`; draws, textures, rows counted from 0) and what is wrong. Unknown
 //!   keys, wrong types and out-of-range values are errors; nothing is silently ignored.
-//! - Particles and animation (`docs/SCENE.md` documents every key): `[[emitter]]` tables
+//! - Particles and animation (`docs/spec/PARTICLES.md` documents every key): `[[emitter]]` tables
 //!   become [`EmitterDesc`]s (a checked [`pointillist_particles::Emitter`] each) and
 //!   `[animation]` an [`Animation`] (its defaults when absent). [`Scene::render_frame`] draws
 //!   frame `k`: the particle system advanced to `warmup + k / fps`, the scene replayed with the
@@ -51,10 +51,10 @@ pub use error::{Origin, SceneError};
 /// The largest render target side a scene may ask for, in pixels.
 pub const MAX_TARGET_SIZE: u32 = pointillist_core::device::MAX_TARGET_SIZE;
 
-/// The most memory one render may hold, in bytes (docs/SCENE.md, limits): the target (its colour
-/// and depth buffers and the RGBA8 copy written out, 12 bytes a pixel), every texture with its mip
-/// chain, every draw's vertices and every emitter's particle storage. A scene over it is refused
-/// while it is read, at the key that crosses it, before the memory is taken.
+/// The most memory one render may hold, in bytes (docs/spec/PARTICLES.md, limits): the target (its
+/// colour and depth buffers and the RGBA8 copy written out, 12 bytes a pixel), every texture with
+/// its mip chain, every draw's vertices and every emitter's particle storage. A scene over it is
+/// refused while it is read, at the key that crosses it, before the memory is taken.
 pub const MEMORY_BUDGET: u64 = 4 << 30;
 /// Bytes a render holds per target pixel: D3DCOLOR, depth and the RGBA8 copy written out.
 pub const TARGET_BYTES_PER_PIXEL: u64 = 12;

@@ -101,7 +101,7 @@ struct Parser<'a> {
     memory: Memory,
 }
 
-/// Bytes a render will hold, by kind (docs/SCENE.md, limits).
+/// Bytes a render will hold, by kind (docs/spec/PARTICLES.md, limits).
 #[derive(Copy, Clone, Debug, Default)]
 struct Memory {
     target: u64,

@@ -1,5 +1,5 @@
 //! Hostile scene files: limits and malformed values, each refused with one line naming the file,
-//! line, column and key (SCENE.md; docs/SCENE.md, limits).
+//! line, column and key (SCENE.md; docs/spec/PARTICLES.md, limits).
 
 use std::path::{Path, PathBuf};
 

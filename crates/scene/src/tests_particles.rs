@@ -483,12 +483,12 @@ fn a_moving_camera_replaces_the_view() {
     );
 }
 
-/// The example of docs/SCENE.md is scenes/snow.toml (comments aside): parsed where the scene
-/// lives, they give the same scene.
+/// The example of docs/spec/PARTICLES.md is scenes/snow.toml (comments aside): parsed where the
+/// scene lives, they give the same scene.
 #[test]
 fn the_documented_example_is_the_snow_scene() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let doc = std::fs::read_to_string(root.join("docs/SCENE.md")).unwrap();
+    let doc = std::fs::read_to_string(root.join("docs/spec/PARTICLES.md")).unwrap();
     let start = doc.find("```toml\n").unwrap() + "```toml\n".len();
     let example = &doc[start..start + doc[start..].find("```").unwrap()];
     let snow = root.join("scenes/snow.toml");

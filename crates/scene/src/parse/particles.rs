@@ -1,6 +1,6 @@
 //! The `[[emitter]]` and `[animation]` tables: particle systems and their animation.
 //!
-//! Every key, its default and its unit are documented in `docs/SCENE.md`; this walk checks
+//! Every key, its default and its unit are documented in `docs/spec/PARTICLES.md`; this walk checks
 //! each value where it stands, so an error names the line and key of the offending value, and
 //! finally runs [`Emitter::validate`] as a backstop.
 
