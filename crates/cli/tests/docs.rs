@@ -151,16 +151,15 @@ fn every_document_the_code_names_exists() {
 fn spec_sections(spec: &str) -> Vec<(u32, Vec<u32>)> {
     let mut sections: Vec<(u32, Vec<u32>)> = Vec::new();
     for line in spec.lines() {
-        if let Some(title) = line.strip_prefix("## ") {
-            if let Some((n, _)) = title.split_once('.') {
-                if let Ok(n) = n.parse() {
-                    sections.push((n, Vec::new()));
-                }
-            }
-        } else if let (Some(last), Some((m, _))) = (sections.last_mut(), line.split_once(". ")) {
-            if let Ok(m) = m.parse() {
-                last.1.push(m);
-            }
+        if let Some(title) = line.strip_prefix("## ")
+            && let Some((n, _)) = title.split_once('.')
+            && let Ok(n) = n.parse()
+        {
+            sections.push((n, Vec::new()));
+        } else if let (Some(last), Some((m, _))) = (sections.last_mut(), line.split_once(". "))
+            && let Ok(m) = m.parse()
+        {
+            last.1.push(m);
         }
     }
     sections
