@@ -107,7 +107,7 @@ fn report(backend: &str, source: &str, caps: &Caps) -> String {
     out
 }
 
-/// Appends the four caps fields, one a line, in D3D names.
+/// Appends the five caps fields, one a line, in D3D names.
 fn table(out: &mut String, caps: &Caps) {
     let yes_no = |b: bool| if b { "yes" } else { "no" };
     let psize = if caps.per_vertex_point_size {
@@ -148,6 +148,15 @@ fn table(out: &mut String, caps: &Caps) {
             clip,
         ),
         ("vertex processing", vp.to_string(), vp_note),
+        (
+            "D3DPRASTERCAPS_WFOG",
+            yes_no(caps.w_fog).to_string(),
+            if caps.w_fog {
+                "table fog from w under a perspective projection"
+            } else {
+                "table fog always from z"
+            },
+        ),
     ];
     for (name, value, note) in rows {
         let _ = writeln!(out, "  {name:<34}  {value:<8}  {note}");

@@ -53,12 +53,14 @@ Render a scene file to an RGBA8 PNG of the render target.
 
 Creates the device the scene's [target] and [caps] describe, issues its calls in order
 (SetRenderState, SetTextureStageState, SetSamplerState, SetTexture, SetTransform, SetViewport,
-SetClipPlane, DrawPrimitiveUP(D3DPT_POINTLIST)), reads the A8R8G8B8 target back and writes its
-exact bytes, alpha included, as an RGBA8 PNG. OUT is replaced atomically: on any error an
-existing OUT is left untouched.
+SetClipPlane, SetMaterial, SetLight, LightEnable, DrawPrimitiveUP(D3DPT_POINTLIST)), reads the
+A8R8G8B8 target back and writes its exact bytes, alpha included, as an RGBA8 PNG. OUT is
+replaced atomically: on any error an existing OUT is left untouched.
 
-States that have no effect on points (D3DRS_FOGENABLE, D3DRS_LIGHTING, ...) are accepted and
-reported once each as a warning on standard error.
+States that have no effect on points (D3DRS_CULLMODE, D3DRS_STENCILENABLE, ...) are accepted and
+reported once each as a warning on standard error. Untransformed points are lit as on D3D9
+(D3DRS_LIGHTING defaults to TRUE); a lit draw with no light enabled prints a note, since its
+points show only the ambient and emissive light (set LIGHTING = false for vertex colours).
 
 A scene with particle emitters or an [animation] renders one frame: frame 0, or --frame N
 (the particles simulated to warmup + N / fps seconds, the camera at N / fps).";

@@ -110,20 +110,51 @@ fn render_replaces_an_existing_output_and_accepts_backend_cpu() {
 fn states_without_effect_on_points_are_warnings_naming_the_scene() {
     let dir = TempDir::new("notices");
     let scene = dir.write(
-        "fog.toml",
-        &SQUARE.replace("POINTSIZE = 3.0", "POINTSIZE = 3.0\nFOGENABLE = true"),
+        "cull.toml",
+        &SQUARE.replace("POINTSIZE = 3.0", "POINTSIZE = 3.0\nCULLMODE = \"CW\""),
     );
-    let png = dir.path("fog.png");
+    let png = dir.path("cull.png");
     let out = pointillist(&["render", path_arg(&scene), "-o", path_arg(&png)]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(
         stderr(&out),
         format!(
-            "warning: {}: render state FOGENABLE has no effect on points; ignored\n",
+            "warning: {}: render state CULLMODE has no effect on points; ignored\n",
             scene.display()
         )
     );
     assert!(png.exists());
+}
+
+#[test]
+fn lit_points_without_a_light_get_one_note() {
+    // SPEC 8.1: LIGHTING defaults to TRUE, and with no light an untransformed point shows only
+    // ambient and emissive light (black here); fog and lighting states are not "ignored".
+    let dir = TempDir::new("unlit");
+    let scene = dir.write(
+        "unlit.toml",
+        &SQUARE
+            .replace("POINTSIZE = 3.0", "POINTSIZE = 3.0\nFOGENABLE = false")
+            .replace("XYZRHW | DIFFUSE", "XYZ | DIFFUSE")
+            .replace(
+                "[[4.0, 4.0, 0.5, 1.0, 0x7FFF0000]]",
+                "[[0.0, 0.0, 0.5, 0x7FFF0000]]",
+            ),
+    );
+    let png = dir.path("unlit.png");
+    let out = pointillist(&["render", path_arg(&scene), "-o", path_arg(&png)]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "warning: {}: LIGHTING is TRUE and no light is enabled: untransformed points are lit \
+             to ambient and emissive light only, as on D3D9 (set LIGHTING = false for vertex \
+             colours)\n",
+            scene.display()
+        )
+    );
+    // Black, with the vertex's alpha (the diffuse material is the vertex colour, SPEC 8.5).
+    assert_eq!(read_rgba8_png(&png).2[4 * 8 + 4], 0x7F00_0000);
 }
 
 #[test]

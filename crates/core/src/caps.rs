@@ -14,7 +14,7 @@ pub enum VertexProcessing {
     Software,
 }
 
-/// The point-sprite part of D3DCAPS9.
+/// The point-sprite and fog part of D3DCAPS9.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub struct Caps {
     /// D3DCAPS9.MaxPointSize: above 1 means sprites are supported; at most 1 means
@@ -26,6 +26,9 @@ pub struct Caps {
     pub clip_plane_scaled_points: bool,
     /// Hardware or software vertex processing.
     pub vertex_processing: VertexProcessing,
+    /// D3DPRASTERCAPS_WFOG: table fog from eye-relative w under a non-affine projection
+    /// (SPEC 9.5).
+    pub w_fog: bool,
 }
 
 /// The largest sprite the runtime's software emulation draws (SPEC 6).
@@ -47,13 +50,15 @@ impl Caps {
         "software",
     ];
 
-    /// The `reference` profile: 8192-pixel sprites, per-vertex size, scaled-point clipping.
+    /// The `reference` profile: 8192-pixel sprites, per-vertex size, scaled-point clipping,
+    /// w-based table fog.
     pub const fn reference() -> Caps {
         Caps {
             max_point_size: 8192.0,
             per_vertex_point_size: true,
             clip_plane_scaled_points: true,
             vertex_processing: VertexProcessing::Hardware,
+            w_fog: true,
         }
     }
 
@@ -90,6 +95,7 @@ impl Caps {
                 per_vertex_point_size: false,
                 clip_plane_scaled_points: false,
                 vertex_processing: VertexProcessing::Software,
+                ..reference
             },
             _ => return None,
         })

@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use crate::caps::Caps;
 use crate::fvf::{Fvf, FvfError};
+use crate::light::{Light, LightError, Lights, Material};
 use crate::math::Mat4;
 use crate::pixel::is_unsupported_op;
 use crate::states::{
@@ -175,6 +176,13 @@ pub enum DeviceError {
         /// The vertices in the draw.
         count: usize,
     },
+    /// A SetLight member outside its range (SPEC 8.2).
+    Light {
+        /// The light index.
+        index: u32,
+        /// The member and what is wrong.
+        error: LightError,
+    },
     /// The backend failed (GPU errors, out of memory).
     Backend(String),
 }
@@ -198,6 +206,7 @@ impl fmt::Display for DeviceError {
                 f,
                 "draw of {count} vertices is above the limit of {MAX_DRAW_VERTICES} per draw"
             ),
+            DeviceError::Light { index, error } => write!(f, "SetLight({index}): {error}"),
             DeviceError::Backend(m) => write!(f, "{m}"),
         }
     }
@@ -240,6 +249,10 @@ pub struct DeviceState {
     pub viewport: Viewport,
     /// User clip planes in world space.
     pub clip_planes: [[f32; 4]; MAX_CLIP_PLANES],
+    /// SetMaterial: all zero on a new device (SPEC 8.2).
+    pub material: Material,
+    /// SetLight / LightEnable: none on a new device (SPEC 8.2).
+    pub lights: Lights,
 }
 
 impl DeviceState {
@@ -276,6 +289,8 @@ impl DeviceState {
             projection: Mat4::IDENTITY,
             viewport: Viewport::full(width, height),
             clip_planes: [[0.0; 4]; MAX_CLIP_PLANES],
+            material: Material::default(),
+            lights: Lights::default(),
         }
     }
 
@@ -393,6 +408,7 @@ pub struct Device<B: Backend> {
     noticed_render: [bool; RenderState::COUNT],
     noticed_stage: [bool; TextureStageState::COUNT],
     noticed_sampler: [bool; SamplerState::COUNT],
+    noticed_unlit: bool,
 }
 
 impl<B: Backend> Device<B> {
@@ -410,6 +426,7 @@ impl<B: Backend> Device<B> {
             noticed_render: [false; RenderState::COUNT],
             noticed_stage: [false; TextureStageState::COUNT],
             noticed_sampler: [false; SamplerState::COUNT],
+            noticed_unlit: false,
         })
     }
 
@@ -604,6 +621,25 @@ impl<B: Backend> Device<B> {
         Ok(())
     }
 
+    /// SetMaterial (SPEC 8.5, 8.7).
+    pub fn set_material(&mut self, material: Material) {
+        self.state.material = material;
+    }
+
+    /// SetLight: refused, naming the member, when [`Light::validate`] refuses it (SPEC 8.2).
+    pub fn set_light(&mut self, index: u32, light: Light) -> Result<(), DeviceError> {
+        light
+            .validate()
+            .map_err(|error| DeviceError::Light { index, error })?;
+        self.state.lights.set(index, light);
+        Ok(())
+    }
+
+    /// LightEnable: an index no SetLight has set gets the default light (SPEC 8.2).
+    pub fn light_enable(&mut self, index: u32, enable: bool) {
+        self.state.lights.enable(index, enable);
+    }
+
     /// Clear of the whole target and depth buffer.
     pub fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError> {
         self.backend.clear(color, depth)
@@ -628,6 +664,7 @@ impl<B: Backend> Device<B> {
         if vertices.is_empty() {
             return Ok(());
         }
+        self.note_unlit(fvf);
         self.backend.draw_points(&self.state, fvf, vertices)
     }
 
@@ -640,7 +677,23 @@ impl<B: Backend> Device<B> {
         self.draw_point_list(V::FVF, &bytes)
     }
 
-    /// Notes gathered since the last call: states set that points ignore, once each.
+    /// Notes once that a draw of untransformed vertices is lit with no light enabled: its
+    /// points show only ambient and emissive light, as on D3D9 (SPEC 8.1, 8.7).
+    fn note_unlit(&mut self, fvf: Fvf) {
+        let lit = self.state.render_state(RenderState::LIGHTING) != 0 && !fvf.is_pretransformed();
+        if lit && !self.noticed_unlit && self.state.lights.enabled_count() == 0 {
+            self.noticed_unlit = true;
+            self.notices.push(
+                "LIGHTING is TRUE and no light is enabled: untransformed points are lit to \
+                 ambient and emissive light only, as on D3D9 (set LIGHTING = false for vertex \
+                 colours)"
+                    .to_string(),
+            );
+        }
+    }
+
+    /// Notes gathered since the last call: states set that points ignore, once each, and that
+    /// points are lit with no light enabled.
     pub fn take_notices(&mut self) -> Vec<String> {
         std::mem::take(&mut self.notices)
     }

@@ -78,7 +78,7 @@ impl std::error::Error for FvfError {}
 pub enum Field {
     /// XYZ (3 floats), XYZW or XYZRHW (4 floats).
     Position(usize),
-    /// NORMAL: 3 floats, read and ignored (no lighting, SPEC 5.1).
+    /// NORMAL: 3 floats, the object-space normal vertex lighting reads (SPEC 8.3).
     Normal,
     /// PSIZE: one float.
     PSize,
@@ -282,6 +282,7 @@ impl Fvf {
         let mut l = Layout {
             stride: self.stride(),
             position_len: 3,
+            normal: None,
             psize: None,
             diffuse: None,
             specular: None,
@@ -291,7 +292,7 @@ impl Fvf {
         for field in self.fields() {
             match field {
                 Field::Position(n) => l.position_len = n,
-                Field::Normal => {}
+                Field::Normal => l.normal = Some(offset),
                 Field::PSize => l.psize = Some(offset),
                 Field::Diffuse => l.diffuse = Some(offset),
                 Field::Specular => l.specular = Some(offset),
@@ -318,6 +319,8 @@ pub struct Layout {
     pub stride: usize,
     /// 3 (XYZ) or 4 (XYZW, XYZRHW) position floats at offset 0.
     pub position_len: usize,
+    /// Offset of NORMAL (three floats).
+    pub normal: Option<usize>,
     /// Offset of PSIZE.
     pub psize: Option<usize>,
     /// Offset of DIFFUSE.
@@ -418,6 +421,7 @@ mod tests {
         let f = Fvf::parse("XYZRHW | NORMAL | PSIZE | DIFFUSE | SPECULAR | TEX2").unwrap();
         let l = f.layout();
         assert_eq!(l.position_len, 4);
+        assert_eq!(l.normal, Some(16));
         assert_eq!(l.psize, Some(28));
         assert_eq!(l.diffuse, Some(32));
         assert_eq!(l.specular, Some(36));
@@ -425,6 +429,9 @@ mod tests {
         assert_eq!(l.tex[1], Some((48, 2)));
         assert_eq!(l.stride, 56);
         assert!(f.is_pretransformed());
+        let n = Fvf::parse("XYZ | NORMAL | DIFFUSE").unwrap().layout();
+        assert_eq!((n.normal, n.diffuse, n.stride), (Some(12), Some(24), 28));
+        assert_eq!(Fvf::XYZ.layout().normal, None);
     }
 
     #[test]

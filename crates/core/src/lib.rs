@@ -10,7 +10,9 @@
 pub mod caps;
 pub mod color;
 pub mod device;
+pub mod fog;
 pub mod fvf;
+pub mod light;
 pub mod math;
 pub mod pixel;
 pub mod point;

@@ -6,6 +6,7 @@
 
 use crate::color::{Rgba, pack, unpack};
 use crate::device::{DeviceState, MAX_STAGES};
+use crate::fog::fog_blend;
 use crate::states::{
     Blend, BlendOp, Cmp, RenderState, TA_ALPHAREPLICATE, TA_COMPLEMENT, TA_CONSTANT, TA_CURRENT,
     TA_DIFFUSE, TA_SELECTMASK, TA_SPECULAR, TA_TEMP, TA_TEXTURE, TA_TFACTOR, TextureOp,
@@ -147,6 +148,8 @@ pub struct PixelSetup {
     pub write_mask: u32,
     /// POINTSPRITEENABLE.
     pub sprite: bool,
+    /// FOGCOLOR when FOGENABLE: the colour points are fogged towards (SPEC 9.1).
+    pub fog: Option<Rgba>,
 }
 
 /// The per-pixel inputs of the cascade: the point's colours and the stage textures' samples.
@@ -156,6 +159,8 @@ pub struct ShadeInputs {
     pub diffuse: Rgba,
     /// SPECULAR.
     pub specular: Rgba,
+    /// The point's fog factor (SPEC 9.1); read only when the draw fogs.
+    pub fog: f32,
 }
 
 fn cmp_from(raw: u32, default: Cmp) -> Cmp {
@@ -282,6 +287,7 @@ impl PixelSetup {
             blend,
             write_mask,
             sprite: rs(RenderState::POINTSPRITEENABLE) != 0,
+            fog: (rs(RenderState::FOGENABLE) != 0).then(|| unpack(rs(RenderState::FOGCOLOR))),
         }
     }
 
@@ -291,10 +297,11 @@ impl PixelSetup {
     }
 
     /// True when the cascade returns the diffuse colour unchanged (SPEC 5.1): no specular add,
-    /// and every enabled stage passes CURRENT's colour and alpha through into CURRENT. Then
+    /// no fog, and every enabled stage passes CURRENT's colour and alpha through into CURRENT. Then
     /// `pack(shade(input))` is the vertex's DIFFUSE, bit for bit.
     pub fn passes_diffuse(&self) -> bool {
         !self.specular
+            && self.fog.is_none()
             && self.stages[..self.stage_count].iter().all(|st| {
                 !st.result_to_temp
                     && st.color_passes()
@@ -308,7 +315,7 @@ impl PixelSetup {
         !self.sprite || !self.samples_textures()
     }
 
-    /// SPEC 5.1 and 5.3 (specular): the colour of one pixel. `sample(stage)` returns the
+    /// SPEC 5.1, 5.3 (specular) and 9.1 (fog): the colour of one pixel. `sample(stage)` returns the
     /// stage's texture sample; it is called only for stages with `samples` set, once each.
     pub fn shade(&self, input: &ShadeInputs, mut sample: impl FnMut(usize) -> Rgba) -> Rgba {
         let mut current = input.diffuse;
@@ -367,7 +374,10 @@ impl PixelSetup {
                 *c = (*c + s).min(1.0);
             }
         }
-        current
+        match &self.fog {
+            Some(color) => fog_blend(current, input.fog, color),
+            None => current,
+        }
     }
 }
 
@@ -549,6 +559,7 @@ mod tests {
         let input = ShadeInputs {
             diffuse: unpack(0x8040_2010),
             specular: [0.0; 4],
+            fog: 1.0,
         };
         let c = p.shade(&input, |_| panic!("no texture bound, nothing sampled"));
         assert_eq!(pack(c), 0x8040_2010);

@@ -7,7 +7,9 @@
 
 use crate::caps::Caps;
 use crate::device::{DeviceState, Viewport};
+use crate::fog::FogSetup;
 use crate::fvf::{Fvf, Layout, read_f32, read_u32};
+use crate::light::LightSetup;
 use crate::math::Mat4;
 use crate::states::RenderState;
 
@@ -170,10 +172,12 @@ pub struct ScreenPoint {
     pub top: f32,
     /// Covered pixels inside the viewport, never empty.
     pub rect: PixelRect,
-    /// DIFFUSE, default opaque white.
+    /// DIFFUSE, default opaque white; the lit diffuse colour when lit (SPEC 8.1).
     pub diffuse: u32,
-    /// SPECULAR, default 0.
+    /// SPECULAR, default 0; the lit specular colour when lit (SPEC 8.1).
     pub specular: u32,
+    /// The fog factor, 1 when unfogged (SPEC 9.1).
+    pub fog: f32,
     /// Index of the vertex in its draw, to read texture coordinates when needed.
     pub vertex: u32,
     /// User clip planes that cut this point's square (at most 6).
@@ -194,6 +198,8 @@ impl ScreenPoint {
 pub struct Projection {
     /// Clip-space position (SPEC 1).
     pub clip: [f32; 4],
+    /// Eye-space position: x, y, z of `position * WORLD * VIEW` (SPEC 2.2, 8.3, 9.4).
+    pub eye: [f32; 3],
     /// `De`, the eye-space distance of SPEC 2.2.
     pub eye_distance: f32,
     /// Screen x.
@@ -227,6 +233,10 @@ pub struct PointSetup {
     scaled_planes: bool,
     /// [`PointSetup::pixel_plane_steps`], once per draw.
     plane_steps: [f32; 4],
+    /// Vertex lighting, when the draw's vertices are lit (SPEC 8.1).
+    lighting: Option<LightSetup>,
+    /// Fog, when FOGENABLE (SPEC 9.1).
+    fog: Option<FogSetup>,
 }
 
 /// See [`PointSetup::pixel_plane_steps`]: clip-space x at column i is
@@ -313,7 +323,26 @@ impl PointSetup {
             plane_count,
             scaled_planes,
             plane_steps: pixel_plane_steps(&vp),
+            lighting: LightSetup::new(state, fvf),
+            fog: FogSetup::new(state, fvf),
         }
+    }
+
+    /// The draw's vertex lighting, `None` when its vertices are not lit (SPEC 8.1).
+    pub fn lighting(&self) -> Option<&LightSetup> {
+        self.lighting.as_ref()
+    }
+
+    /// The draw's fog, `None` when FOGENABLE is off (SPEC 9.1).
+    pub fn fog(&self) -> Option<&FogSetup> {
+        self.fog.as_ref()
+    }
+
+    /// True when every point's colours are its vertex's DIFFUSE and SPECULAR, unfogged: no
+    /// lighting (SPEC 8.1) and no fog (SPEC 9.1). Paths that read vertex colours directly, or
+    /// that shade without a fog factor, apply only then.
+    pub fn uses_vertex_colors(&self) -> bool {
+        self.lighting.is_none() && self.fog.is_none()
     }
 
     /// The vertex layout of the draw.
@@ -440,6 +469,7 @@ impl PointSetup {
         }
         Some(Projection {
             clip: c,
+            eye: [eye[0], eye[1], eye[2]],
             eye_distance: (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt(),
             x: vp.x as f32 + (1.0 + c[0] / c[3]) * vp.width as f32 / 2.0,
             y: vp.y as f32 + (1.0 - c[1] / c[3]) * vp.height as f32 / 2.0,
@@ -463,15 +493,16 @@ impl PointSetup {
             Some(o) if self.use_vertex_size => read_f32(v, o),
             _ => self.point_size,
         };
-        let (x, y, z, size, clip) = if self.pretransformed {
+        let (x, y, z, size, clip, eye, w) = if self.pretransformed {
             let (x, y, z, rhw) = (pos[0], pos[1], pos[2], pos[3]);
             if !self.keeps_pretransformed(z, rhw) {
                 return None;
             }
-            (x, y, z, self.size(si, 0.0), None)
+            (x, y, z, self.size(si, 0.0), None, [0.0; 3], 1.0 / rhw)
         } else {
             let p = self.project(pos)?;
-            (p.x, p.y, p.z, self.size(si, p.eye_distance), Some(p.clip))
+            let size = self.size(si, p.eye_distance);
+            (p.x, p.y, p.z, size, Some(p.clip), p.eye, p.clip[3])
         };
         if !(x.is_finite() && y.is_finite() && z.is_finite()) {
             return None;
@@ -484,6 +515,23 @@ impl PointSetup {
         if rect.is_empty() {
             return None; // SPEC 3.2 and 2.5
         }
+        let vertex_diffuse = self.layout.diffuse.map(|o| read_u32(v, o));
+        let vertex_specular = self.layout.specular.map(|o| read_u32(v, o));
+        let diffuse = vertex_diffuse.unwrap_or(crate::color::WHITE);
+        let specular = vertex_specular.unwrap_or(0);
+        let (diffuse, specular) = match &self.lighting {
+            Some(l) => {
+                let normal = self.layout.normal.map_or([0.0; 3], |o| {
+                    [read_f32(v, o), read_f32(v, o + 4), read_f32(v, o + 8)]
+                });
+                l.light(eye, normal, diffuse, specular)
+            }
+            None => (diffuse, specular),
+        };
+        let fog = self
+            .fog
+            .as_ref()
+            .map_or(1.0, |f| f.factor(eye, z, w, vertex_specular));
         let mut point = ScreenPoint {
             x,
             y,
@@ -492,11 +540,9 @@ impl PointSetup {
             left,
             top,
             rect,
-            diffuse: self
-                .layout
-                .diffuse
-                .map_or(crate::color::WHITE, |o| read_u32(v, o)),
-            specular: self.layout.specular.map_or(0, |o| read_u32(v, o)),
+            diffuse,
+            specular,
+            fog,
             vertex: index,
             planes: [PixelPlane::default(); 6],
             plane_count: 0,

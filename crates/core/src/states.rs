@@ -143,15 +143,22 @@ state_table! {
     DITHERENABLE = 26, Bool, FALSE, false;
     /// Blending (SPEC 5.5).
     ALPHABLENDENABLE = 27, Bool, FALSE, true;
-    FOGENABLE = 28, Bool, FALSE, false;
-    /// Specular add (SPEC 5.3).
+    /// Fog (SPEC 9.1).
+    FOGENABLE = 28, Bool, FALSE, true;
+    /// Specular: lit specular highlights (SPEC 8.6) and the specular add (SPEC 5.3).
     SPECULARENABLE = 29, Bool, FALSE, true;
-    FOGCOLOR = 34, Color, 0, false;
-    FOGTABLEMODE = 35, Enum(FogMode), 0, false;
-    FOGSTART = 36, Float, F0, false;
-    FOGEND = 37, Float, F1, false;
-    FOGDENSITY = 38, Float, F1, false;
-    RANGEFOGENABLE = 48, Bool, FALSE, false;
+    /// The colour points are fogged towards (SPEC 9.1).
+    FOGCOLOR = 34, Color, 0, true;
+    /// Table (pixel) fog formula (SPEC 9.2, 9.5).
+    FOGTABLEMODE = 35, Enum(FogMode), 0, true;
+    /// Linear fog start (SPEC 9.3); default 0.0.
+    FOGSTART = 36, Float, F0, true;
+    /// Linear fog end (SPEC 9.3); default 1.0.
+    FOGEND = 37, Float, F1, true;
+    /// Exponential fog density (SPEC 9.3); default 1.0.
+    FOGDENSITY = 38, Float, F1, true;
+    /// Vertex fog from the eye distance instead of |z| (SPEC 9.4).
+    RANGEFOGENABLE = 48, Bool, FALSE, true;
     STENCILENABLE = 52, Bool, FALSE, false;
     STENCILFAIL = 53, Enum(StencilOp), 1, false;
     STENCILZFAIL = 54, Enum(StencilOp), 1, false;
@@ -172,17 +179,26 @@ state_table! {
     WRAP7 = 135, Int, 0, false;
     /// Depth clipping (SPEC 3.1).
     CLIPPING = 136, Bool, TRUE, true;
-    /// Accepted but ignored: pointillist never lights vertices (SPEC 5.1).
-    LIGHTING = 137, Bool, TRUE, false;
-    AMBIENT = 139, Color, 0, false;
-    FOGVERTEXMODE = 140, Enum(FogMode), 0, false;
-    COLORVERTEX = 141, Bool, TRUE, false;
-    LOCALVIEWER = 142, Bool, TRUE, false;
-    NORMALIZENORMALS = 143, Bool, FALSE, false;
-    DIFFUSEMATERIALSOURCE = 145, Enum(MaterialColorSource), 1, false;
-    SPECULARMATERIALSOURCE = 146, Enum(MaterialColorSource), 2, false;
-    AMBIENTMATERIALSOURCE = 147, Enum(MaterialColorSource), 0, false;
-    EMISSIVEMATERIALSOURCE = 148, Enum(MaterialColorSource), 0, false;
+    /// Vertex lighting of untransformed vertices (SPEC 8.1); default TRUE.
+    LIGHTING = 137, Bool, TRUE, true;
+    /// The global ambient light (SPEC 8.7).
+    AMBIENT = 139, Color, 0, true;
+    /// Vertex fog formula (SPEC 9.2).
+    FOGVERTEXMODE = 140, Enum(FogMode), 0, true;
+    /// Material colours from the vertex colours (SPEC 8.5); default TRUE.
+    COLORVERTEX = 141, Bool, TRUE, true;
+    /// Specular half vector from the vertex position (SPEC 8.6); default TRUE.
+    LOCALVIEWER = 142, Bool, TRUE, true;
+    /// Normalises transformed normals (SPEC 8.3).
+    NORMALIZENORMALS = 143, Bool, FALSE, true;
+    /// Source of the diffuse material colour (SPEC 8.5); default COLOR1.
+    DIFFUSEMATERIALSOURCE = 145, Enum(MaterialColorSource), 1, true;
+    /// Source of the specular material colour (SPEC 8.5); default COLOR2.
+    SPECULARMATERIALSOURCE = 146, Enum(MaterialColorSource), 2, true;
+    /// Source of the ambient material colour (SPEC 8.5); default MATERIAL.
+    AMBIENTMATERIALSOURCE = 147, Enum(MaterialColorSource), 0, true;
+    /// Source of the emissive material colour (SPEC 8.5); default MATERIAL.
+    EMISSIVEMATERIALSOURCE = 148, Enum(MaterialColorSource), 0, true;
     VERTEXBLEND = 151, Enum(VertexBlendFlags), 0, false;
     /// User clip planes, bits 0..5 (SPEC 3.3).
     CLIPPLANEENABLE = 152, Int, 0, true;
@@ -597,8 +613,14 @@ const FILLMODE_NAMES: &[(&str, u32)] = &[("POINT", 1), ("WIREFRAME", 2), ("SOLID
 const SHADEMODE_NAMES: &[(&str, u32)] = &[("FLAT", 1), ("GOURAUD", 2), ("PHONG", 3)];
 /// `D3DCULL` names.
 const CULL_NAMES: &[(&str, u32)] = &[("NONE", 1), ("CW", 2), ("CCW", 3)];
-/// `D3DFOGMODE` names.
-const FOGMODE_NAMES: &[(&str, u32)] = &[("NONE", 0), ("EXP", 1), ("EXP2", 2), ("LINEAR", 3)];
+typed_enum! {
+    /// `D3DFOGMODE`: the fog formula of FOGTABLEMODE and FOGVERTEXMODE (SPEC 9.3).
+    FogMode, "D3DFOG_", FOGMODE_NAMES;
+    None = 0 => "NONE",
+    Exp = 1 => "EXP",
+    Exp2 = 2 => "EXP2",
+    Linear = 3 => "LINEAR",
+}
 /// `D3DSTENCILOP` names.
 const STENCILOP_NAMES: &[(&str, u32)] = &[
     ("KEEP", 1),
@@ -610,8 +632,13 @@ const STENCILOP_NAMES: &[(&str, u32)] = &[
     ("INCR", 7),
     ("DECR", 8),
 ];
-/// `D3DMATERIALCOLORSOURCE` names.
-const MCS_NAMES: &[(&str, u32)] = &[("MATERIAL", 0), ("COLOR1", 1), ("COLOR2", 2)];
+typed_enum! {
+    /// `D3DMATERIALCOLORSOURCE`: where a lit vertex takes a material colour (SPEC 8.5).
+    MaterialColorSource, "D3DMCS_", MCS_NAMES;
+    Material = 0 => "MATERIAL",
+    Color1 = 1 => "COLOR1",
+    Color2 = 2 => "COLOR2",
+}
 /// `D3DVERTEXBLENDFLAGS` names.
 const VBF_NAMES: &[(&str, u32)] = &[
     ("DISABLE", 0),
@@ -1125,9 +1152,11 @@ mod tests {
             .filter(|s| s.affects_points())
             .map(|s| s.name().unwrap())
             .collect();
-        assert_eq!(points.len(), 28);
-        assert!(!RenderState::LIGHTING.affects_points());
-        assert!(!RenderState::FOGENABLE.affects_points());
+        assert_eq!(points.len(), 45);
+        assert!(RenderState::LIGHTING.affects_points()); // SPEC 8.1
+        assert!(RenderState::FOGENABLE.affects_points()); // SPEC 9.1
+        assert!(RenderState::FOGVERTEXMODE.affects_points());
+        assert!(RenderState::EMISSIVEMATERIALSOURCE.affects_points());
         assert!(!RenderState::CULLMODE.affects_points());
         assert!(!RenderState(153).affects_points());
         assert!(TextureStageState::TEXCOORDINDEX.affects_points());

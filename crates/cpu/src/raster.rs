@@ -216,7 +216,7 @@ enum ModulateAlpha {
 enum Shading {
     /// The cascade passes DIFFUSE through ([`PixelSetup::passes_diffuse`]).
     Diffuse,
-    /// Stage 0 alone, COLOROP MODULATE(TEXTURE, DIFFUSE or CURRENT), no specular: the
+    /// Stage 0 alone, COLOROP MODULATE(TEXTURE, DIFFUSE or CURRENT), no specular, no fog: the
     /// commonest particle setup, as the cascade computes it.
     Modulate(ModulateAlpha),
     /// Anything else: [`PixelSetup::shade`].
@@ -231,6 +231,7 @@ fn shading(px: &PixelSetup) -> Shading {
     let diffuse = |a: u32| a == TA_DIFFUSE || a == TA_CURRENT; // stage 0: CURRENT is DIFFUSE
     if px.stage_count != 1
         || px.specular
+        || px.fog.is_some()
         || !st.samples
         || st.result_to_temp
         || st.color_op != TextureOp::Modulate
@@ -1040,6 +1041,7 @@ fn inputs(p: &ScreenPoint) -> ShadeInputs {
     ShadeInputs {
         diffuse: unpack(p.diffuse),
         specular: unpack(p.specular),
+        fog: p.fog,
     }
 }
 
@@ -1662,6 +1664,7 @@ mod tests {
         for scene in 0..12 {
             let (w, h) = (150, 110);
             let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+            device.set_render_state(RenderState::LIGHTING, false);
             let sprite = scene % 3 != 0;
             if sprite {
                 let texels = (0..64).map(|_| rng.next()).collect();

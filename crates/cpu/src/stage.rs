@@ -195,9 +195,11 @@ impl Projector {
 }
 
 impl Twin {
-    /// The twin for `points`, or `None` when user clip planes apply (SPEC 3.3).
+    /// The twin for `points`, or `None` when user clip planes apply (SPEC 3.3) or the points'
+    /// colours are not their vertex colours (lighting, SPEC 8.1; fog, SPEC 9.1): core's stage
+    /// computes those.
     pub(crate) fn new(points: &PointSetup) -> Option<Twin> {
-        if !points.user_planes().is_empty() {
+        if !points.user_planes().is_empty() || !points.uses_vertex_colors() {
             return None;
         }
         let layout = points.layout();
@@ -693,6 +695,12 @@ mod tests {
                 ..DeviceDesc::new(120, 90)
             };
             let mut device = crate::device(desc).unwrap();
+            // Lit or fogged points take core's stage (SPEC 8.1, 9.1): no twin.
+            assert!(Twin::new(&PointSetup::new(device.state(), Fvf::XYZ)).is_none());
+            device.set_render_state(RenderState::FOGENABLE, true);
+            assert!(Twin::new(&PointSetup::new(device.state(), Fvf::XYZRHW)).is_none());
+            device.set_render_state(RenderState::FOGENABLE, false);
+            device.set_render_state(RenderState::LIGHTING, false);
             let rs = |d: &mut crate::CpuDevice, s: RenderState, v: f32| {
                 d.set_render_state(s, v);
             };

@@ -1961,12 +1961,16 @@ fn spec_5_1_texcoordindex_selects_the_coordinate_set() {
 fn spec_5_1_states_without_effect_are_reported_once() {
     let mut d = dev(8, 8);
     assert!(d.take_notices().is_empty());
-    d.set_render_state(Rs::LIGHTING, true);
-    d.set_render_state(Rs::LIGHTING, false);
-    d.set_render_state(Rs::FOGENABLE, true);
+    d.set_render_state(Rs::DITHERENABLE, true);
+    d.set_render_state(Rs::DITHERENABLE, false);
+    d.set_render_state(Rs::STENCILENABLE, true);
     d.set_render_state(Rs::CULLMODE, 1u32);
     d.set_render_state(Rs::POINTSIZE, 3.0f32);
     d.set_render_state(Rs::ZFUNC, Cmp::Less);
+    // Lighting and fog apply to points (SPEC 8, 9): not reported.
+    d.set_render_state(Rs::LIGHTING, true);
+    d.set_render_state(Rs::FOGENABLE, true);
+    d.set_render_state(Rs::FOGVERTEXMODE, 3u32);
     d.set_texture_stage_state(0, Tss::BUMPENVMAT00, 1.0f32)
         .unwrap();
     d.set_texture_stage_state(1, Tss::BUMPENVMAT00, 1.0f32)
@@ -1977,18 +1981,20 @@ fn spec_5_1_states_without_effect_are_reported_once() {
         .unwrap();
     let notes = d.take_notices();
     let count = |name: &str| notes.iter().filter(|n| n.contains(name)).count();
-    assert_eq!(count("LIGHTING"), 1, "{notes:?}");
-    assert_eq!(count("FOGENABLE"), 1, "{notes:?}");
+    assert_eq!(count("DITHERENABLE"), 1, "{notes:?}");
+    assert_eq!(count("STENCILENABLE"), 1, "{notes:?}");
     assert_eq!(count("CULLMODE"), 1, "{notes:?}");
     assert_eq!(count("BUMPENVMAT00"), 1, "{notes:?}");
     assert_eq!(count("ADDRESSW"), 1, "{notes:?}");
     assert_eq!(count("POINTSIZE"), 0, "{notes:?}");
     assert_eq!(count("ZFUNC"), 0, "{notes:?}");
     assert_eq!(count("MINFILTER"), 0, "{notes:?}");
+    assert_eq!(count("LIGHTING"), 0, "{notes:?}");
+    assert_eq!(count("FOG"), 0, "{notes:?}");
     assert_eq!(notes.len(), 5, "{notes:?}");
     // Once: setting them again says nothing.
-    d.set_render_state(Rs::LIGHTING, true);
-    d.set_render_state(Rs::FOGENABLE, false);
+    d.set_render_state(Rs::DITHERENABLE, true);
+    d.set_render_state(Rs::STENCILENABLE, false);
     assert!(d.take_notices().is_empty());
     // Every D3D9 render state is accepted; each ignored one is reported exactly once.
     let mut d = dev(8, 8);
@@ -2009,15 +2015,11 @@ fn spec_5_1_states_without_effect_are_reported_once() {
 }
 
 #[test]
-fn spec_5_1_no_lighting_fog_or_culling_on_points() {
+fn spec_5_1_no_culling_or_fill_mode_on_points() {
     let mut d = dev(8, 8);
-    d.set_render_state(Rs::LIGHTING, true);
-    d.set_render_state(Rs::AMBIENT, 0xFFFF_FFFFu32);
-    d.set_render_state(Rs::FOGENABLE, true);
-    d.set_render_state(Rs::FOGCOLOR, 0xFF00_FF00u32);
-    d.set_render_state(Rs::FOGTABLEMODE, 3u32);
     d.set_render_state(Rs::CULLMODE, 2u32);
     d.set_render_state(Rs::FILLMODE, 2u32);
+    d.set_render_state(Rs::SHADEMODE, 1u32);
     draw(&mut d, XYZ_D, &[f(0.0), f(0.0), f(0.9), 0x8012_3456]);
     assert_eq!(target(&mut d).pixel(4, 4), 0x8012_3456);
 }

@@ -482,6 +482,9 @@ impl RenderSettings {
     pub fn apply<B: Backend>(&self, device: &mut Device<B>) -> Result<(), DeviceError> {
         use RenderState as R;
         use TextureStageState as T;
+        // Particles show their vertex colours: LIGHTING FALSE, as D3D9 particle code sets it
+        // (lit, they would be black with no light; SPEC 8.1).
+        device.set_render_state(R::LIGHTING, false);
         let (blend, src, dst) = self.blend.states();
         device.set_render_state(R::ALPHABLENDENABLE, blend);
         device.set_render_state(R::SRCBLEND, src);

@@ -41,6 +41,7 @@ use std::sync::Arc;
 use pointillist_core::caps::Caps;
 use pointillist_core::device::{Backend, Device, DeviceDesc, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
+use pointillist_core::light::{Light, Material};
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 use pointillist_core::texture::Texture;
@@ -122,6 +123,22 @@ pub enum Command {
         index: usize,
         /// The plane: a point is inside when `a*x + b*y + c*z + d >= 0`.
         plane: [f32; 4],
+    },
+    /// SetMaterial(D3DMATERIAL9).
+    Material(Material),
+    /// SetLight(index, D3DLIGHT9), already checked by `Light::validate`.
+    Light {
+        /// Any light index.
+        index: u32,
+        /// The light, world space.
+        light: Light,
+    },
+    /// LightEnable(index, enable).
+    LightEnable {
+        /// Any light index.
+        index: u32,
+        /// TRUE or FALSE.
+        enable: bool,
     },
     /// DrawPrimitiveUP(D3DPT_POINTLIST, ...): `vertices` is a whole number of FVF vertices.
     Draw {
@@ -376,6 +393,11 @@ impl Scene {
                 Command::ClipPlane { index, plane } => {
                     device.set_clip_plane(*index, *plane).map_err(fail)?;
                 }
+                Command::Material(m) => device.set_material(*m),
+                Command::Light { index, light } => {
+                    device.set_light(*index, *light).map_err(fail)?;
+                }
+                Command::LightEnable { index, enable } => device.light_enable(*index, *enable),
                 Command::Draw { fvf, vertices } => {
                     device.draw_point_list(*fvf, vertices).map_err(fail)?;
                 }
@@ -455,6 +477,8 @@ impl Scene {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_lighting;
 #[cfg(test)]
 mod tests_limits;
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! The walk over the spanned TOML tree that turns a scene file into a [`Scene`].
 
+mod lighting;
 mod particles;
 
 use std::collections::HashMap;
@@ -44,6 +45,8 @@ const TOP_KEYS: &[&str] = &[
     "stage",
     "texture",
     "clip_plane",
+    "material",
+    "light",
     "draw",
     "emitter",
     "animation",
@@ -58,6 +61,8 @@ const DRAW_KEYS: &[&str] = &[
     "transform",
     "viewport",
     "clip_plane",
+    "material",
+    "light",
 ];
 
 /// Parses scene text; `file` names it in errors and anchors relative paths.
@@ -331,6 +336,7 @@ impl Parser<'_> {
                 "per_vertex_point_size",
                 "clip_plane_scaled_points",
                 "vertex_processing",
+                "w_fog",
             ],
         )?;
         let mut caps = match f.get("profile") {
@@ -363,6 +369,9 @@ impl Parser<'_> {
         if let Some(v) = f.get("clip_plane_scaled_points") {
             caps.clip_plane_scaled_points = boolean(src, v, &f.path("clip_plane_scaled_points"))?;
         }
+        if let Some(v) = f.get("w_fog") {
+            caps.w_fog = boolean(src, v, &f.path("w_fog"))?;
+        }
         if let Some(v) = f.get("vertex_processing") {
             let path = f.path("vertex_processing");
             let name = string(src, v, &path)?;
@@ -384,7 +393,7 @@ impl Parser<'_> {
     }
 
     /// The state changes of the top level (`top`) or of one draw, in a fixed order: render
-    /// states, stage states, textures, transforms, viewport, clip planes.
+    /// states, stage states, textures, transforms, viewport, clip planes, material, lights.
     fn changes(&mut self, f: &Fields<'_, '_>, top: bool) -> Result<(), SceneError> {
         if let Some(v) = f.get("states") {
             self.states(v, &f.path("states"))?;
@@ -424,6 +433,14 @@ impl Parser<'_> {
         if let Some(v) = f.get("clip_plane") {
             for (v, path) in tables(&self.src, v, &f.path("clip_plane"))? {
                 self.clip_plane(v, &path)?;
+            }
+        }
+        if let Some(v) = f.get("material") {
+            self.material(v, &f.path("material"))?;
+        }
+        if let Some(v) = f.get("light") {
+            for (v, path) in tables(&self.src, v, &f.path("light"))? {
+                self.light(v, &path)?;
             }
         }
         Ok(())

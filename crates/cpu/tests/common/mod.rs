@@ -50,28 +50,36 @@ pub fn bytes(words: &[u32]) -> Vec<u8> {
     words.iter().flat_map(|w| w.to_le_bytes()).collect()
 }
 
+/// A device for `desc` with LIGHTING FALSE: these tests check the points' own colours, as
+/// Wine's visual tests and the D3D9 programs they transcribe set it (lit, untransformed points
+/// would take their colours from lights and the material, SPEC 8.1). Lighting's own tests set
+/// LIGHTING TRUE again.
+pub fn dev_desc(desc: DeviceDesc) -> TestDevice {
+    let mut d = pointillist_testkit::device(desc).expect("device");
+    d.set_render_state(RenderState::LIGHTING, false);
+    d
+}
+
 /// A D3D9 reference device with a `w` x `h` target cleared to opaque black, depth 1.
 pub fn dev(w: u32, h: u32) -> TestDevice {
-    pointillist_testkit::device(DeviceDesc::new(w, h)).expect("device")
+    dev_desc(DeviceDesc::new(w, h))
 }
 
 /// A device with given caps.
 pub fn dev_caps(w: u32, h: u32, caps: Caps) -> TestDevice {
-    pointillist_testkit::device(DeviceDesc {
+    dev_desc(DeviceDesc {
         caps,
         ..DeviceDesc::new(w, h)
     })
-    .expect("device")
 }
 
 /// A device with a given API profile and clear colour.
 pub fn dev_api(w: u32, h: u32, api: Api, clear: u32) -> TestDevice {
-    pointillist_testkit::device(DeviceDesc {
+    dev_desc(DeviceDesc {
         api,
         clear_color: clear,
         ..DeviceDesc::new(w, h)
     })
-    .expect("device")
 }
 
 /// Draws raw words as a point list of format `fvf`.

@@ -1,0 +1,349 @@
+//! Fixed-function fog (SPEC 9): which fog a draw gets, the fog factor of one point and the
+//! final blend towards FOGCOLOR.
+//!
+//! [`FogSetup::new`] resolves the fog states once per draw; the per-point stage asks it for
+//! the point's factor ([`FogSetup::factor`]) and the pixel stage blends with [`fog_blend`].
+//! For a point every pixel has the same depth, so the factor is computed once per point.
+
+use crate::color::{Rgba, unpack};
+use crate::device::DeviceState;
+use crate::fvf::Fvf;
+use crate::math::Mat4;
+use crate::states::{FogMode, RenderState};
+
+/// Where a draw's fog factor comes from (SPEC 9.2).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum FogSource {
+    /// The vertex's SPECULAR alpha; 1 (unfogged) for a vertex without SPECULAR.
+    SpecularAlpha,
+    /// Vertex fog: `formula` of the eye-space depth `|Ze|`, or of the eye distance when
+    /// `range` (RANGEFOGENABLE).
+    Vertex {
+        /// EXP, EXP2 or LINEAR.
+        formula: FogMode,
+        /// RANGEFOGENABLE.
+        range: bool,
+    },
+    /// Table (pixel) fog: `formula` of the point's clip-space w when `w`, else of its depth Z.
+    Table {
+        /// EXP, EXP2 or LINEAR.
+        formula: FogMode,
+        /// Eye-relative (w) rather than z-based depth (SPEC 9.5).
+        w: bool,
+    },
+}
+
+/// The per-point part of a draw's fog, resolved (SPEC 9); `None` from [`FogSetup::new`] when
+/// FOGENABLE is off. The pixel part, FOGCOLOR, is `PixelSetup::fog`.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FogSetup {
+    /// Where the factor comes from.
+    pub source: FogSource,
+    /// The formula's parameters.
+    pub params: FogParams,
+}
+
+/// The numbers of the fog formulas, resolved once per draw (SPEC 9.3).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FogParams {
+    /// FOGEND.
+    pub end: f32,
+    /// `1 / (FOGEND - FOGSTART)`, or 0 when FOGSTART == FOGEND (every point fully fogged).
+    pub scale: f32,
+    /// FOGDENSITY.
+    pub density: f32,
+}
+
+impl FogParams {
+    /// From FOGSTART, FOGEND and FOGDENSITY.
+    pub fn new(start: f32, end: f32, density: f32) -> FogParams {
+        FogParams {
+            end,
+            scale: if end == start {
+                0.0
+            } else {
+                1.0 / (end - start)
+            },
+            density,
+        }
+    }
+}
+
+/// SPEC 9.3: the fog factor of distance `d` under `formula`, clamped to 0..=1 (NaN to 0):
+/// LINEAR `(end - d) / (end - start)` (computed as `(end - d) * scale`, 0 when start == end),
+/// EXP `e^-(d * density)`, EXP2 `e^-((d * density)^2)`; NONE is 1.
+#[inline]
+pub fn fog_factor(formula: FogMode, d: f32, p: &FogParams) -> f32 {
+    let f = match formula {
+        FogMode::None => 1.0,
+        FogMode::Linear => (p.end - d) * p.scale,
+        FogMode::Exp => (-(d * p.density)).exp(),
+        FogMode::Exp2 => {
+            let x = d * p.density;
+            (-(x * x)).exp()
+        }
+    };
+    saturate(f)
+}
+
+/// `f` clamped to 0..=1, NaN to 0.
+#[inline]
+fn saturate(f: f32) -> f32 {
+    if f >= 0.0 { f.min(1.0) } else { 0.0 }
+}
+
+/// SPEC 9.1: `f * colour + (1 - f) * FOGCOLOR` on red, green and blue; alpha unchanged.
+#[inline]
+pub fn fog_blend(c: Rgba, f: f32, fog: &Rgba) -> Rgba {
+    let g = 1.0 - f;
+    [
+        c[0] * f + fog[0] * g,
+        c[1] * f + fog[1] * g,
+        c[2] * f + fog[2] * g,
+        c[3],
+    ]
+}
+
+/// SPEC 9.5: a projection is affine (z-based pixel fog) when its fourth column is (0, 0, 0, 1).
+pub fn is_affine(projection: &Mat4) -> bool {
+    let m = &projection.0;
+    m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0
+}
+
+impl FogSetup {
+    /// SPEC 9.1, 9.2: the fog of a draw of `fvf` vertices, `None` when FOGENABLE is off.
+    pub fn new(state: &DeviceState, fvf: Fvf) -> Option<FogSetup> {
+        let rs = |s: RenderState| state.render_state(s);
+        if rs(RenderState::FOGENABLE) == 0 {
+            return None;
+        }
+        let mode = |s| FogMode::from_raw(rs(s)).unwrap_or(FogMode::None);
+        let table = mode(RenderState::FOGTABLEMODE);
+        let vertex = mode(RenderState::FOGVERTEXMODE);
+        let source = if table != FogMode::None {
+            FogSource::Table {
+                formula: table,
+                w: state.caps.effective().w_fog && !is_affine(&state.projection),
+            }
+        } else if vertex != FogMode::None && !fvf.is_pretransformed() {
+            FogSource::Vertex {
+                formula: vertex,
+                range: rs(RenderState::RANGEFOGENABLE) != 0,
+            }
+        } else {
+            FogSource::SpecularAlpha
+        };
+        let f = |s| f32::from_bits(rs(s));
+        Some(FogSetup {
+            source,
+            params: FogParams::new(
+                f(RenderState::FOGSTART),
+                f(RenderState::FOGEND),
+                f(RenderState::FOGDENSITY),
+            ),
+        })
+    }
+
+    /// SPEC 9.2-9.5: the fog factor of one point. `eye` is its eye-space position (untransformed
+    /// vertices; unused otherwise), `z` its depth Z, `w` its clip-space w (1 / RHW for
+    /// pre-transformed vertices) and `specular` its SPECULAR, if the vertex has one.
+    #[inline]
+    pub fn factor(&self, eye: [f32; 3], z: f32, w: f32, specular: Option<u32>) -> f32 {
+        match self.source {
+            FogSource::SpecularAlpha => specular.map_or(1.0, |s| unpack(s)[3]),
+            FogSource::Vertex { formula, range } => {
+                let d = if range {
+                    (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt()
+                } else {
+                    eye[2].abs()
+                };
+                fog_factor(formula, d, &self.params)
+            }
+            FogSource::Table { formula, w: use_w } => {
+                fog_factor(formula, if use_w { w } else { z }, &self.params)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::caps::Caps;
+    use crate::color::{pack, unpack};
+    use crate::states::Api;
+
+    fn setup_caps(
+        states: &[(RenderState, u32)],
+        fvf: Fvf,
+        projection: &Mat4,
+        caps: Caps,
+    ) -> Option<FogSetup> {
+        let mut state = DeviceState::new(Api::D3d9, caps, 64, 64);
+        for &(s, v) in states {
+            state.render_states[s.0 as usize] = v;
+        }
+        state.projection = *projection;
+        FogSetup::new(&state, fvf)
+    }
+
+    fn setup(states: &[(RenderState, u32)], fvf: Fvf, projection: &Mat4) -> Option<FogSetup> {
+        setup_caps(states, fvf, projection, Caps::reference())
+    }
+
+    const ON: (RenderState, u32) = (RenderState::FOGENABLE, 1);
+    const XYZ_DS: Fvf = Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+    const RHW_DS: Fvf = Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+
+    fn mode(m: FogMode) -> u32 {
+        m as u32
+    }
+
+    /// Within one step per colour channel, as Wine's tests compare.
+    fn close(a: u32, b: u32) -> bool {
+        (0..3).all(|k| ((a >> (8 * k)) & 0xFF).abs_diff((b >> (8 * k)) & 0xFF) <= 1)
+    }
+
+    #[test]
+    fn spec_9_1_fog_is_off_by_default_and_blends_rgb_only() {
+        assert_eq!(setup(&[], XYZ_DS, &Mat4::IDENTITY), None);
+        let red = unpack(0xFFFF_0000);
+        let green = unpack(0xFF00_FF00);
+        // Wine fog_with_shader_test: linear table fog 0.1..0.9 at z = 0.2006 gives 0x00df2000.
+        let f = fog_factor(
+            FogMode::Linear,
+            0.001 + 2.0 / 10.02,
+            &FogParams::new(0.1, 0.9, 1.0),
+        );
+        assert_eq!(pack(fog_blend(red, f, &green)), 0xFFDF_2000);
+        let half = fog_blend([1.0, 1.0, 1.0, 0.25], 0.5, &[0.0, 0.0, 0.0, 1.0]);
+        assert_eq!(half, [0.5, 0.5, 0.5, 0.25]);
+    }
+
+    /// Wine fog_test: untransformed vertices with both modes NONE, and pre-transformed ones with
+    /// vertex fog, read the factor from the specular alpha; table fog wins over vertex fog.
+    #[test]
+    fn spec_9_2_which_fog_applies() {
+        let t = |states: &[(RenderState, u32)], fvf| {
+            setup(states, fvf, &Mat4::IDENTITY).unwrap().source
+        };
+        assert_eq!(t(&[ON], XYZ_DS), FogSource::SpecularAlpha);
+        let vertex_linear = (RenderState::FOGVERTEXMODE, mode(FogMode::Linear));
+        assert_eq!(
+            t(&[ON, vertex_linear], XYZ_DS),
+            FogSource::Vertex {
+                formula: FogMode::Linear,
+                range: false
+            }
+        );
+        assert_eq!(t(&[ON, vertex_linear], RHW_DS), FogSource::SpecularAlpha);
+        let table_exp = (RenderState::FOGTABLEMODE, mode(FogMode::Exp));
+        let range = (RenderState::RANGEFOGENABLE, 1);
+        for fvf in [XYZ_DS, RHW_DS] {
+            assert_eq!(
+                t(&[ON, vertex_linear, table_exp, range], fvf),
+                FogSource::Table {
+                    formula: FogMode::Exp,
+                    w: false
+                }
+            );
+        }
+        // An undefined mode value is NONE.
+        assert_eq!(
+            t(&[ON, (RenderState::FOGTABLEMODE, 9)], XYZ_DS),
+            FogSource::SpecularAlpha
+        );
+        let s = setup(&[ON], XYZ_DS, &Mat4::IDENTITY).unwrap();
+        assert_eq!(
+            s.factor([0.0; 3], 0.5, 1.0, Some(0x8000_0000)),
+            128.0 / 255.0
+        );
+        assert_eq!(s.factor([0.0; 3], 0.5, 1.0, None), 1.0);
+    }
+
+    #[test]
+    fn spec_9_3_formulas() {
+        let p = FogParams::new(2.0, 10.0, 0.5);
+        assert_eq!(fog_factor(FogMode::Linear, 6.0, &p), 0.5);
+        assert_eq!(fog_factor(FogMode::Linear, 1.0, &p), 1.0);
+        assert_eq!(fog_factor(FogMode::Linear, 11.0, &p), 0.0);
+        assert_eq!(fog_factor(FogMode::Exp, 2.0, &p), (-1.0f32).exp());
+        assert_eq!(fog_factor(FogMode::Exp2, 4.0, &p), (-4.0f32).exp());
+        // Wine fog_test: FOGSTART == FOGEND fogs every point fully, even in front of start.
+        let same = FogParams::new(512.0, 512.0, 1.0);
+        assert_eq!(fog_factor(FogMode::Linear, 0.1, &same), 0.0);
+        assert_eq!(fog_factor(FogMode::Linear, 1000.0, &same), 0.0);
+        let nan = FogParams::new(0.0, 1.0, f32::NAN);
+        assert_eq!(fog_factor(FogMode::Exp, 1.0, &nan), 0.0);
+        // Wine fog_with_shader_test, table EXP and EXP2 at z = 0.7994 (density 1): 0x00738c00 and
+        // 0x00867900 within 1 step.
+        let red = unpack(0xFFFF_0000);
+        let green = unpack(0xFF00_FF00);
+        let z = 0.001 + 8.0 / 10.02;
+        let one = FogParams::new(0.1, 0.9, 1.0);
+        let exp = pack(fog_blend(red, fog_factor(FogMode::Exp, z, &one), &green));
+        let exp2 = pack(fog_blend(red, fog_factor(FogMode::Exp2, z, &one), &green));
+        assert!(close(exp, 0xFF73_8C00), "{exp:08x}");
+        assert!(close(exp2, 0xFF86_7900), "{exp2:08x}");
+    }
+
+    #[test]
+    fn spec_9_4_vertex_fog_distance() {
+        let linear = [
+            ON,
+            (RenderState::FOGVERTEXMODE, mode(FogMode::Linear)),
+            (RenderState::FOGSTART, 0.0f32.to_bits()),
+            (RenderState::FOGEND, 10.0f32.to_bits()),
+        ];
+        let s = setup(&linear, XYZ_DS, &Mat4::IDENTITY).unwrap();
+        assert_eq!(s.factor([3.0, 0.0, -4.0], 0.0, 0.0, None), 0.6);
+        let mut ranged = linear.to_vec();
+        ranged.push((RenderState::RANGEFOGENABLE, 1));
+        let s = setup(&ranged, XYZ_DS, &Mat4::IDENTITY).unwrap();
+        assert_eq!(s.factor([3.0, 0.0, -4.0], 0.0, 0.0, None), 0.5);
+    }
+
+    /// Wine fog_test's orthogonal projection (z-based: 0x00e51900 at Z = 0.1) and
+    /// test_table_fog_zw (pre-transformed vertices under an identity projection use Z whatever
+    /// their RHW); a perspective projection uses w.
+    #[test]
+    fn spec_9_5_table_fog_depth_is_z_or_w() {
+        let table = [ON, (RenderState::FOGTABLEMODE, mode(FogMode::Linear))];
+        let ortho = Mat4([
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, -1.0, 1.0],
+        ]);
+        let s = setup(&table, XYZ_DS, &ortho).unwrap();
+        let f = s.factor([0.0; 3], 0.1, 1.0, None);
+        let c = pack(fog_blend(unpack(0xFFFF_0000), f, &unpack(0xFF00_FF00)));
+        assert!(close(c, 0xFFE5_1900), "{c:08x}");
+        let s = setup(&table, RHW_DS, &Mat4::IDENTITY).unwrap();
+        assert_eq!(
+            s.factor([0.0; 3], 0.7, 1.0 / 0.3, None),
+            s.factor([0.0; 3], 0.7, 1.0, None)
+        );
+        let persp = Mat4::perspective_fov_lh(1.0, 1.0, 1.0, 100.0);
+        let s = setup(&table, XYZ_DS, &persp).unwrap();
+        assert_eq!(
+            s.source,
+            FogSource::Table {
+                formula: FogMode::Linear,
+                w: true
+            }
+        );
+        let caps = Caps {
+            w_fog: false,
+            ..Caps::reference()
+        };
+        let no_wfog = setup_caps(&table, XYZ_DS, &persp, caps).unwrap();
+        assert_eq!(
+            no_wfog.source,
+            FogSource::Table {
+                formula: FogMode::Linear,
+                w: false
+            }
+        );
+    }
+}
