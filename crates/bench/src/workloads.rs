@@ -225,6 +225,8 @@ impl Workload {
     /// Sets the workload's states on a device.
     pub fn configure<B: Backend>(&self, d: &mut Device<B>) -> Result<(), DeviceError> {
         d.set_render_state(RenderState::POINTSIZE, self.point_size);
+        // Vertex colours, not D3D9 lighting (SPEC 8.1), as particle code sets it.
+        d.set_render_state(RenderState::LIGHTING, false);
         d.set_render_state(RenderState::ALPHABLENDENABLE, true);
         let (src, dst) = match self.kind {
             Kind::W1 | Kind::W2 => (Blend::One, Blend::One),

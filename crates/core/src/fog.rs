@@ -12,7 +12,7 @@ use crate::math::Mat4;
 use crate::states::{FogMode, RenderState};
 
 /// Where a draw's fog factor comes from (SPEC 9.2).
-#[derive(Copy, Clone, Debug, PartialEq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum FogSource {
     /// The vertex's SPECULAR alpha; 1 (unfogged) for a vertex without SPECULAR.
     SpecularAlpha,

@@ -263,7 +263,7 @@ impl Lights {
 }
 
 /// Where a lit vertex takes one material colour, resolved for a vertex format (SPEC 8.5).
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum ColorSource {
     /// The material's colour.
     Material,

@@ -53,6 +53,7 @@ fn ring_vertices() -> Vec<XyzPsizeDiffuse> {
 
 fn ring_device() -> CpuDevice {
     let mut d = pointillist_cpu::device(DeviceDesc::new(640, 480)).expect("device");
+    d.set_render_state(RenderState::LIGHTING, false);
     d.set_render_state(RenderState::POINTSPRITEENABLE, true);
     d.set_render_state(RenderState::POINTSCALEENABLE, true);
     d.set_render_state(RenderState::POINTSCALE_B, 1.0f32);

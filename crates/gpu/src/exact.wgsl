@@ -61,6 +61,7 @@ fn write_record(index: u32, p: Point, color: u32) {
     RECS[at + 7u] = bitcast<u32>(p.left);
     RECS[at + 8u] = bitcast<u32>(p.top);
     RECS[at + 9u] = bitcast<u32>(p.size);
+    RECS[at + 10u] = bitcast<u32>(p.fog);
 }
 
 @compute @workgroup_size(POINTS_PER_GROUP)

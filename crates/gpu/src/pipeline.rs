@@ -6,15 +6,17 @@
 //!   bit is in it), the draw's point-stage switches (pre-transformed, per-vertex size, scaling,
 //!   single-pixel caps, user clip planes and how they are applied), flat or per-pixel shading,
 //!   the resolved texture-stage cascade with each sampling stage's filter and address modes,
-//!   specular, alpha-test function, depth test and write, blend factors and operations, and the
-//!   channel write mask. Values that only change numbers (matrices, sizes, colours, ALPHAREF,
+//!   specular, alpha-test function, depth test and write, blend factors and operations, the
+//!   channel write mask, the lighting switches and the fog source. Values that only change numbers (matrices, sizes, colours, ALPHAREF,
 //!   border colours, LOD bias, MAXMIPLEVEL, the blend constant) are uniforms or dynamic state
 //!   and never make a new pipeline.
 //! - Keys are built from core's resolved [`PointSetup`] and [`PixelSetup`]; the D3D enums are
 //!   mapped to wgpu state here and nowhere else.
 
 use pointillist_core::device::DeviceState;
+use pointillist_core::fog::FogSource;
 use pointillist_core::fvf::Fvf;
+use pointillist_core::light::{ColorSource, LightSetup};
 use pointillist_core::pixel::{BlendSetup, PixelSetup, StageSetup, dest_factor};
 use pointillist_core::point::PointSetup;
 use pointillist_core::states::{Blend, BlendOp, Cmp, TextureFilter, TextureOp};
@@ -149,6 +151,38 @@ pub(crate) struct PipelineKey {
     pub blend: Option<[(Blend, Blend, BlendOp); 2]>,
     /// COLORWRITEENABLE over 0xAARRGGBB.
     pub write_mask: u32,
+    /// Vertex lighting (SPEC 8), `None` when the draw's vertices are not lit.
+    pub lighting: Option<LightKey>,
+    /// Where the fog factor comes from (SPEC 9.2), `None` without fog.
+    pub fog: Option<FogSource>,
+}
+
+/// The switches of core's `LightSetup` that shape the shader; the colours, lights and matrices
+/// are uniforms.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub(crate) struct LightKey {
+    /// Active lights (SPEC 8.2).
+    pub count: u32,
+    /// NORMALIZENORMALS.
+    pub normalize: bool,
+    /// LOCALVIEWER.
+    pub local_viewer: bool,
+    /// SPECULARENABLE: highlights are computed.
+    pub specular: bool,
+    /// Sources of the diffuse, ambient, specular and emissive material colours (SPEC 8.5).
+    pub sources: [ColorSource; 4],
+}
+
+impl LightKey {
+    fn new(l: &LightSetup) -> LightKey {
+        LightKey {
+            count: l.count as u32,
+            normalize: l.normalize,
+            local_viewer: l.local_viewer,
+            specular: l.specular,
+            sources: l.sources,
+        }
+    }
 }
 
 impl PipelineKey {
@@ -186,6 +220,8 @@ impl PipelineKey {
                 .map(|d| (d.func, d.write)),
             blend: pixel.blend.as_ref().map(blend_components),
             write_mask: pixel.write_mask,
+            lighting: points.lighting().map(LightKey::new),
+            fog: points.fog().map(|f| f.source),
         }
     }
 

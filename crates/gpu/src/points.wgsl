@@ -53,6 +53,32 @@ struct Uniforms {
     k: vec4f,
     // BLENDFACTOR as floats (the exact path's blend).
     blend_factor: vec4f,
+    // core LightSetup (SPEC 8): rows of the normal matrix (w unused), AMBIENT, the material's
+    // diffuse, ambient, specular and emissive colours.
+    normal_matrix: array<vec4f, 3>,
+    global_ambient: vec4f,
+    material: array<vec4f, 4>,
+    // Material power, FOGEND, 1 / (FOGEND - FOGSTART) (core FogParams), FOGDENSITY.
+    power_fog: vec4f,
+    // FOGCOLOR as floats (SPEC 9.1).
+    fog_color: vec4f,
+    // The active lights in eye space (core EyeLight), LIGHT_COUNT of them.
+    lights: array<Light, 8>,
+}
+
+// core::light::EyeLight: seven 16-byte slots.
+struct Light {
+    diffuse: vec4f,
+    specular: vec4f,
+    ambient: vec4f,
+    // Eye-space position, range.
+    position: vec4f,
+    // Eye-space unit direction, falloff.
+    direction: vec4f,
+    // Attenuation0, 1, 2, D3DLIGHTTYPE (1 point, 2 spot, 3 directional).
+    attenuation: vec4f,
+    // cos(theta / 2), cos(phi / 2), unused, unused.
+    cone: vec4f,
 }
 
 @group(0) @binding(0) var<uniform> U: Uniforms;
@@ -145,6 +171,8 @@ struct Point {
     clip: vec4f,
     diffuse: u32,
     specular: u32,
+    // The fog factor, 1 when unfogged (SPEC 9.1).
+    fog: f32,
 }
 
 fn dropped() -> Point {
@@ -205,6 +233,152 @@ fn pixel_plane(pl: vec4f, p: Point) -> vec4f {
     return vec4f(c, 1.0);
 }
 
+// ---- vertex lighting (core::light, SPEC 8) ----
+
+fn dot3(a: vec3f, b: vec3f) -> f32 {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+// core::light::normalize3: v / sqrt(v . v), zero for a zero vector.
+fn normalize3(v: vec3f) -> vec3f {
+    let len = sqrt(dot3(v, v));
+    if len > 0.0 {
+        return v / len;
+    }
+    return vec3f(0.0);
+}
+
+// LightSetup::eye_normal (SPEC 8.3): n * normal_matrix, normalised with NORMALIZENORMALS.
+fn eye_normal(n: vec3f) -> vec3f {
+    let m = U.normal_matrix;
+    let e = n.x * m[0].xyz + n.y * m[1].xyz + n.z * m[2].xyz;
+    if NORMALIZE_NORMALS {
+        return normalize3(e);
+    }
+    return e;
+}
+
+// core::light::spot_factor (SPEC 8.4).
+fn spot_factor(rho: f32, cos_half_theta: f32, cos_half_phi: f32, falloff: f32) -> f32 {
+    if rho > cos_half_theta {
+        return 1.0;
+    }
+    if rho <= cos_half_phi {
+        return 0.0;
+    }
+    return pow((rho - cos_half_phi) / (cos_half_theta - cos_half_phi), falloff);
+}
+
+// A material colour from its source (core ColorSource): 0 material, 1 DIFFUSE, 2 SPECULAR.
+fn material_color(source: u32, material: vec4f, diffuse: u32, specular: u32) -> vec4f {
+    if source == 1u {
+        return unpack_color(diffuse);
+    }
+    if source == 2u {
+        return unpack_color(specular);
+    }
+    return material;
+}
+
+// LightSetup::light (SPEC 8.4 to 8.7): the lit diffuse and specular colours, packed.
+fn light_vertex(eye: vec3f, normal: vec3f, diffuse: u32, specular: u32) -> vec2u {
+    let n = eye_normal(normal);
+    var amb = vec3f(0.0);
+    var diff = vec3f(0.0);
+    var spec = vec4f(0.0);
+    var view = vec3f(0.0, 0.0, -1.0);
+    if LOCAL_VIEWER {
+        view = -normalize3(eye);
+    }
+    for (var k = 0u; k < LIGHT_COUNT; k++) {
+        let l = U.lights[k];
+        let kind = u32(l.attenuation.w);
+        var to_light = -l.direction.xyz;
+        var atten = 1.0;
+        if kind != 3u {
+            let d = l.position.xyz - eye;
+            let d2 = dot3(d, d);
+            let dist = sqrt(d2);
+            if dist > l.position.w {
+                continue;
+            }
+            to_light = normalize3(d);
+            let a = l.attenuation;
+            atten = min(1.0 / (a.x + a.y * dist + a.z * d2), F32_MAX);
+            if kind == 2u {
+                let rho = -dot3(to_light, l.direction.xyz);
+                atten *= spot_factor(rho, l.cone.x, l.cone.y, l.direction.w);
+            }
+        }
+        amb += l.ambient.xyz * atten;
+        let n_dot_l = dot3(n, to_light);
+        let diffuseness = clamp(n_dot_l, 0.0, 1.0) * atten;
+        diff += l.diffuse.xyz * diffuseness;
+        if SPECULAR_LIGHT {
+            let h = normalize3(to_light + view);
+            let n_dot_h = clamp(dot3(n, h), 0.0, 1.0);
+            if n_dot_l > 0.0 && n_dot_h > 0.0 {
+                let specularness = pow(n_dot_h, U.power_fog.x) * atten;
+                spec += l.specular * specularness;
+            }
+        }
+    }
+    let cd = material_color(SOURCE_DIFFUSE, U.material[0], diffuse, specular);
+    let ca = material_color(SOURCE_AMBIENT, U.material[1], diffuse, specular);
+    let cs = material_color(SOURCE_SPECULAR, U.material[2], diffuse, specular);
+    let ce = material_color(SOURCE_EMISSIVE, U.material[3], diffuse, specular);
+    let g = U.global_ambient.xyz;
+    let lit = vec4f(ca.xyz * (g + amb) + cd.xyz * diff + ce.xyz, cd.w);
+    return vec2u(pack_color(quantize(lit)), pack_color(quantize(cs * spec)));
+}
+
+// ---- fog (core::fog, SPEC 9) ----
+
+// core::fog::fog_factor (SPEC 9.3) of distance `d` with the draw's FOG_FORMULA.
+fn fog_factor(d: f32) -> f32 {
+    var f = 1.0;
+    if FOG_FORMULA == 3u {
+        f = (U.power_fog.y - d) * U.power_fog.z;
+    } else if FOG_FORMULA == 1u {
+        f = exp(-(d * U.power_fog.w));
+    } else if FOG_FORMULA == 2u {
+        let x = d * U.power_fog.w;
+        f = exp(-(x * x));
+    }
+    // Clamped to 0..1, NaN to 0.
+    if f >= 0.0 {
+        return min(f, 1.0);
+    }
+    return 0.0;
+}
+
+// FogSetup::factor (SPEC 9.2 to 9.5): FOG_SOURCE 1 is the specular alpha, 2 vertex fog, 3
+// table fog.
+fn point_fog(eye: vec3f, z: f32, w: f32, specular: u32) -> f32 {
+    if FOG_SOURCE == 1u {
+        if HAS_SPECULAR {
+            return unpack_color(specular).a;
+        }
+        return 1.0;
+    }
+    if FOG_SOURCE == 2u {
+        if FOG_RANGE {
+            return fog_factor(sqrt(eye.x * eye.x + eye.y * eye.y + eye.z * eye.z));
+        }
+        return fog_factor(abs(eye.z));
+    }
+    if FOG_SOURCE == 3u {
+        return fog_factor(select(z, w, FOG_W));
+    }
+    return 1.0;
+}
+
+// core::fog::fog_blend (SPEC 9.1): C * f + FOGCOLOR * (1 - f) on rgb.
+fn fog_blend(c: vec4f, f: f32) -> vec4f {
+    let g = 1.0 - f;
+    return vec4f(c.rgb * f + U.fog_color.rgb * g, c.a);
+}
+
 // PointSetup::process for point `index` of the draw (SPEC 2, 3, 4.1).
 fn point_stage(index: u32) -> Point {
     let base = index * STRIDE;
@@ -221,6 +395,8 @@ fn point_stage(index: u32) -> Point {
     }
     let clipping = U.misc.y != 0u;
     var p: Point;
+    var eye = vec4f(0.0);
+    var w = 0.0;
     if PRETRANSFORMED {
         // SPEC 3.1: w = 1/RHW must be positive; depth range checked in screen space.
         p.x = pos.x;
@@ -233,8 +409,9 @@ fn point_stage(index: u32) -> Point {
             return dropped();
         }
         p.size = final_size(si, 0.0);
+        w = 1.0 / pos.w;
     } else {
-        let eye = transform(pos, U.world_view[0], U.world_view[1], U.world_view[2], U.world_view[3]);
+        eye = transform(pos, U.world_view[0], U.world_view[1], U.world_view[2], U.world_view[3]);
         let c = transform(eye, U.projection[0], U.projection[1], U.projection[2], U.projection[3]);
         if !finite4(c) || c.w <= 0.0 {
             return dropped(); // SPEC 3.1
@@ -250,6 +427,7 @@ fn point_stage(index: u32) -> Point {
         p.z = U.depth.x + (c.z / c.w) * (U.depth.y - U.depth.x);
         p.size = final_size(si, de);
         p.clip = c;
+        w = c.w;
     }
     if !(finite(p.x) && finite(p.y) && finite(p.z)) {
         return dropped();
@@ -272,6 +450,16 @@ fn point_stage(index: u32) -> Point {
     p.specular = 0u;
     if HAS_SPECULAR {
         p.specular = word(base + SPECULAR_AT);
+    }
+    p.fog = point_fog(eye.xyz, p.z, w, p.specular);
+    if LIT {
+        var normal = vec3f(0.0);
+        if HAS_NORMAL {
+            normal = vec3f(wordf(base + NORMAL_AT), wordf(base + NORMAL_AT + 1u), wordf(base + NORMAL_AT + 2u));
+        }
+        let lit = light_vertex(eye.xyz, normal, p.diffuse, p.specular);
+        p.diffuse = lit.x;
+        p.specular = lit.y;
     }
     if PLANE_COUNT > 0u && !SCALED_PLANES {
         // SPEC 3.3 without CLIPPLANESCALEDPOINTS: the vertex's world position decides.

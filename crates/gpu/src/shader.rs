@@ -9,8 +9,11 @@
 //!   (SPEC 5.3) and the entry points.
 //! - Flat points (core `PixelSetup::is_flat`) are shaded, quantised and alpha-tested once per
 //!   vertex and carry one packed colour; textured sprites carry their square (left, top, S),
-//!   their two colours and one LOD per sampling stage, and are shaded per pixel with the sprite
-//!   coordinates of SPEC 4.3 computed from the pixel index, like core's `sprite_coord`.
+//!   their two colours, their fog factor and one LOD per sampling stage, and are shaded per pixel
+//!   with the sprite coordinates of SPEC 4.3 computed from the pixel index, like core's
+//!   `sprite_coord`. Lighting (SPEC 8) and the fog factor (SPEC 9) are computed once per point
+//!   in the per-point stage, by `points.wgsl`'s restatement of core's `LightSetup::light` and
+//!   `FogSetup::factor`.
 //! - Every inter-stage value is `@interpolate(flat)`.
 
 use std::fmt::Write;
@@ -22,6 +25,9 @@ use pointillist_core::states::{
 
 use pointillist_core::color::WHITE;
 use pointillist_core::device::{MAX_CLIP_PLANES, MAX_STAGES};
+use pointillist_core::fog::FogSource;
+use pointillist_core::light::ColorSource;
+use pointillist_core::states::FogMode;
 use pointillist_core::texture::COORD_LIMIT;
 
 use crate::exact::{POINTS_PER_GROUP, TILE};
@@ -135,10 +141,10 @@ fn sampling_stages(key: &PipelineKey) -> Vec<usize> {
         .collect()
 }
 
-/// `fn shade(diffuse, specular, uv<i>, lod<i> for each sampling stage) -> vec4f`: the cascade
-/// (core `PixelSetup::shade`, SPEC 5.1) and the specular add (SPEC 5.3).
+/// `fn shade(diffuse, specular, fog, uv<i>, lod<i> for each sampling stage) -> vec4f`: the
+/// cascade (core `PixelSetup::shade`, SPEC 5.1), the specular add (SPEC 5.3) and fog (SPEC 9.1).
 fn gen_shade(key: &PipelineKey, out: &mut String) {
-    let mut params = String::from("diffuse: vec4f, specular: vec4f");
+    let mut params = String::from("diffuse: vec4f, specular: vec4f, fog: f32");
     for i in sampling_stages(key) {
         let _ = write!(params, ", uv{i}: vec2f, lod{i}: f32");
     }
@@ -194,6 +200,9 @@ fn gen_shade(key: &PipelineKey, out: &mut String) {
         out.push_str(
             "    current = vec4f(min(current.rgb + specular.rgb, vec3f(1.0)), current.a);\n",
         );
+    }
+    if key.fog.is_some() {
+        out.push_str("    current = fog_blend(current, fog);\n");
     }
     out.push_str("    return current;\n}\n\n");
 }
@@ -304,7 +313,7 @@ fn gen_point(key: &PipelineKey, drop: &str, out: &mut String) {
         );
     }
     if key.flat {
-        let mut args = String::from("unpack_color(p.diffuse), unpack_color(p.specular)");
+        let mut args = String::from("unpack_color(p.diffuse), unpack_color(p.specular), p.fog");
         for i in sampling_stages(key) {
             let _ = write!(args, ", vertex_coords(index, {i}u), MAG_LOD");
         }
@@ -315,9 +324,9 @@ fn gen_point(key: &PipelineKey, drop: &str, out: &mut String) {
     }
 }
 
-/// Words of every point record of the exact path: rectangle, z, two colours, left, top, S
-/// (see `exact.wgsl`'s `write_record`).
-const RECORD_FIXED_WORDS: usize = 10;
+/// Words of every point record of the exact path: rectangle, z, two colours, left, top, S,
+/// the fog factor (see `exact.wgsl`'s `write_record`).
+const RECORD_FIXED_WORDS: usize = 11;
 
 /// Words of the largest record: a LOD for every stage, every clip plane tested per pixel.
 pub(crate) const MAX_RECORD_WORDS: u32 =
@@ -384,7 +393,9 @@ pub(crate) fn generate_compute(key: &PipelineKey) -> String {
             "    let left = recf(at + 7u);\n    let top = recf(at + 8u);\n    let size = recf(at + 9u);\n\
              \x20   let uv = vec2f((i - left) / size, (j - top) / size);\n",
         );
-        let mut args = String::from("unpack_color(RECS[at + 5u]), unpack_color(RECS[at + 6u])");
+        let mut args = String::from(
+            "unpack_color(RECS[at + 5u]), unpack_color(RECS[at + 6u]), recf(at + 10u)",
+        );
         for n in 0..sampling.len() {
             let _ = write!(args, ", uv, recf(at + REC_LODS + {n}u)");
         }
@@ -405,7 +416,23 @@ fn header(key: &PipelineKey, out: &mut String) {
     let _ = writeln!(out, "// generated for {key:?}");
     let depth = key.depth;
     let address = |mode: TextureAddress| format!("{}u", mode as u32);
-    let consts: [(&str, &str, String); 25] = [
+    let lighting = key.lighting;
+    let source = |k: usize| {
+        lighting.map_or("0u".to_string(), |l| match l.sources[k] {
+            ColorSource::Material => "0u".to_string(),
+            ColorSource::Diffuse => "1u".to_string(),
+            ColorSource::Specular => "2u".to_string(),
+        })
+    };
+    // core FogSource as numbers: 0 none, 1 specular alpha, 2 vertex fog, 3 table fog, and the
+    // formula's D3DFOGMODE.
+    let (fog_source, fog_formula, fog_range, fog_w) = match key.fog {
+        None => (0, FogMode::None, false, false),
+        Some(FogSource::SpecularAlpha) => (1, FogMode::None, false, false),
+        Some(FogSource::Vertex { formula, range }) => (2, formula, range, false),
+        Some(FogSource::Table { formula, w }) => (3, formula, false, w),
+    };
+    let consts: [(&str, &str, String); 41] = [
         ("INV255", "f32", f32_literal(1.0 / 255.0)),
         // SPEC 5.2: texture coordinates are clamped to this magnitude before scaling.
         ("COORD_LIMIT", "f32", f32_literal(COORD_LIMIT)),
@@ -446,6 +473,40 @@ fn header(key: &PipelineKey, out: &mut String) {
         ),
         ("WRITE_MASK", "u32", format!("{:#010x}u", key.write_mask)),
         ("SPRITE_PLANES", "u32", format!("{}u", scaled_planes(key))),
+        // SPEC 8: vertex lighting.
+        ("F32_MAX", "f32", f32_literal(f32::MAX)),
+        ("LIT", "bool", lighting.is_some().to_string()),
+        ("HAS_NORMAL", "bool", layout.normal.is_some().to_string()),
+        ("NORMAL_AT", "u32", format!("{}u", word(layout.normal))),
+        (
+            "LIGHT_COUNT",
+            "u32",
+            format!("{}u", lighting.map_or(0, |l| l.count)),
+        ),
+        (
+            "NORMALIZE_NORMALS",
+            "bool",
+            lighting.is_some_and(|l| l.normalize).to_string(),
+        ),
+        (
+            "LOCAL_VIEWER",
+            "bool",
+            lighting.is_some_and(|l| l.local_viewer).to_string(),
+        ),
+        (
+            "SPECULAR_LIGHT",
+            "bool",
+            lighting.is_some_and(|l| l.specular).to_string(),
+        ),
+        ("SOURCE_DIFFUSE", "u32", source(0)),
+        ("SOURCE_AMBIENT", "u32", source(1)),
+        ("SOURCE_SPECULAR", "u32", source(2)),
+        ("SOURCE_EMISSIVE", "u32", source(3)),
+        // SPEC 9: fog.
+        ("FOG_SOURCE", "u32", format!("{fog_source}u")),
+        ("FOG_FORMULA", "u32", format!("{}u", fog_formula as u32)),
+        ("FOG_RANGE", "bool", fog_range.to_string()),
+        ("FOG_W", "bool", fog_w.to_string()),
     ];
     for (name, ty, value) in consts {
         let _ = writeln!(out, "const {name}: {ty} = {value};");
@@ -486,6 +547,7 @@ pub(crate) fn generate(key: &PipelineKey) -> String {
     } else {
         fields.push_str("    @location(0) @interpolate(flat) square: vec3f,\n");
         fields.push_str("    @location(1) @interpolate(flat) colors: vec2u,\n");
+        fields.push_str("    @location(10) @interpolate(flat) fog: f32,\n");
         for slot in 0..sampling.len().div_ceil(4) {
             let _ = writeln!(
                 fields,
@@ -528,6 +590,7 @@ pub(crate) fn generate(key: &PipelineKey) -> String {
     } else {
         out.push_str("    out.square = vec3f(p.left, p.top, p.size);\n");
         out.push_str("    out.colors = vec2u(p.diffuse, p.specular);\n");
+        out.push_str("    out.fog = p.fog;\n");
         for (slot, chunk) in sampling.chunks(4).enumerate() {
             let mut lods: Vec<String> = chunk
                 .iter()
@@ -580,7 +643,7 @@ pub(crate) fn generate(key: &PipelineKey) -> String {
         out.push_str(
             "    let uv = vec2f((i - in.square.x) / in.square.z, (j - in.square.y) / in.square.z);\n",
         );
-        let mut args = String::from("unpack_color(in.colors.x), unpack_color(in.colors.y)");
+        let mut args = String::from("unpack_color(in.colors.x), unpack_color(in.colors.y), in.fog");
         for n in 0..sampling.len() {
             let comp = ["x", "y", "z", "w"][n % 4];
             let _ = write!(args, ", uv, in.lods{}.{comp}", n / 4);

@@ -3,21 +3,27 @@
 //! Contract: [`Uniforms::new`] writes the `Uniforms` struct of `points.wgsl` member by member,
 //! every member a 16-byte slot, in declaration order. Every number comes from core:
 //! `PointSetup` (matrices, viewport, sizes and clamp bounds, scale terms, clip planes already
-//! carried into clip space), `PixelSetup` (TEXTUREFACTOR, stage constants, ALPHAREF) and
+//! carried into clip space, the lighting's eye-space lights and normal matrix, the fog
+//! numbers), `PixelSetup` (TEXTUREFACTOR, stage constants, ALPHAREF, FOGCOLOR) and
 //! `SamplerDesc` (border colour, LOD bias, MAXMIPLEVEL). Per-draw constants the shader would
 //! compute per point (`2 / viewport width`, the pixel-plane terms, ...) are computed here, on the
 //! CPU, with core's expressions, so they are correctly rounded and never contracted.
 
+use pointillist_core::color::Rgba;
 use pointillist_core::device::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES};
+use pointillist_core::fog::FogSetup;
 use pointillist_core::fvf::Fvf;
+use pointillist_core::light::{LightSetup, MAX_ACTIVE_LIGHTS, Material};
 use pointillist_core::math::Mat4;
 use pointillist_core::pixel::PixelSetup;
 use pointillist_core::point::PointSetup;
 use pointillist_core::texture::SamplerDesc;
 
 /// 16-byte slots in the block: three matrices, nine single slots, three per-stage arrays, the
-/// clip planes, the cascade constants and BLENDFACTOR.
-const SLOTS: usize = 3 * 4 + 9 + 3 * MAX_STAGES + MAX_CLIP_PLANES + 2;
+/// clip planes, the cascade constants, BLENDFACTOR, then lighting and fog: the normal matrix,
+/// AMBIENT, four material colours, power and fog numbers, FOGCOLOR and seven slots per light.
+const SLOTS: usize =
+    3 * 4 + 9 + 3 * MAX_STAGES + MAX_CLIP_PLANES + 2 + 3 + 1 + 4 + 2 + 7 * MAX_ACTIVE_LIGHTS;
 
 /// Size of the uniform block in bytes.
 pub(crate) const UNIFORM_SIZE: u64 = (SLOTS * 16) as u64;
@@ -103,8 +109,50 @@ impl Uniforms {
         }
         u.f4([0.5, 1.0, 2.0, 4.0]);
         u.f4(pixel.blend.map_or([1.0; 4], |b| b.factor));
+        u.lighting(points.lighting(), points.fog(), pixel.fog);
         debug_assert_eq!(u.words.len(), SLOTS * 4);
         u
+    }
+
+    /// The lighting and fog slots (SPEC 8, 9): core's `LightSetup`, `FogParams` and FOGCOLOR,
+    /// zero when the draw is unlit or unfogged.
+    fn lighting(&mut self, l: Option<&LightSetup>, fog: Option<&FogSetup>, color: Option<Rgba>) {
+        let m = l.map_or([[0.0; 3]; 3], |l| l.normal_matrix);
+        for row in m {
+            self.f4([row[0], row[1], row[2], 0.0]);
+        }
+        self.f4(l.map_or([0.0; 4], |l| l.global_ambient));
+        let material = l.map_or(Material::default(), |l| l.material);
+        for c in [
+            material.diffuse,
+            material.ambient,
+            material.specular,
+            material.emissive,
+        ] {
+            self.f4(c);
+        }
+        let p = fog.map(|f| f.params);
+        self.f4([
+            material.power,
+            p.map_or(0.0, |p| p.end),
+            p.map_or(0.0, |p| p.scale),
+            p.map_or(0.0, |p| p.density),
+        ]);
+        self.f4(color.unwrap_or([0.0; 4]));
+        for k in 0..MAX_ACTIVE_LIGHTS {
+            let Some(e) = l.and_then(|l| l.active_lights().get(k)) else {
+                self.words.extend([0; 7 * 4]);
+                continue;
+            };
+            self.f4(e.diffuse);
+            self.f4(e.specular);
+            self.f4(e.ambient);
+            self.f4([e.position[0], e.position[1], e.position[2], e.range]);
+            self.f4([e.direction[0], e.direction[1], e.direction[2], e.falloff]);
+            let [a0, a1, a2] = e.attenuation;
+            self.f4([a0, a1, a2, e.light_type as u32 as f32]);
+            self.f4([e.cos_half_theta, e.cos_half_phi, 0.0, 0.0]);
+        }
     }
 
     /// The bytes to upload.

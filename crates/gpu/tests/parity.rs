@@ -235,8 +235,10 @@ fn spec_6_caps_profiles_and_api() {
     }
 }
 
-/// A camera looking down +z from the origin with a 90 degree field of view.
+/// A camera looking down +z from the origin with a 90 degree field of view, for untransformed
+/// points in their vertex colours (LIGHTING FALSE, SPEC 8.1).
 fn perspective(d: &mut AnyDevice, aspect: f32) {
+    d.set_render_state(RenderState::LIGHTING, false);
     d.set_transform(
         TransformType::Projection,
         Mat4::perspective_fov_lh(std::f32::consts::FRAC_PI_2, aspect, 1.0, 100.0),
@@ -389,6 +391,7 @@ fn spec_3_2_footprint_clipping() {
         })?;
         d.draw_vertices(&pts)?;
         // Transformed points at the viewport's edge, depth mapped into min_z..max_z.
+        d.set_render_state(RenderState::LIGHTING, false);
         d.set_render_state(RenderState::POINTSIZE, 20.0f32);
         d.draw_vertices(&[
             XyzDiffuse {
@@ -1110,5 +1113,175 @@ fn spec_5_5_one_blend_over_every_colour_class() {
                 d.draw_vertices(&fg)
             },
         );
+    }
+}
+
+/// Untransformed points with normals, in a grid in front of the camera: `(x, y, z, nx, ny, nz,
+/// diffuse, specular)` words of `XYZ | NORMAL | DIFFUSE | SPECULAR`.
+fn lit_grid(r: &mut Rng) -> Vec<u8> {
+    let mut v = Vec::new();
+    for j in 0..12 {
+        for i in 0..16 {
+            let x = -1.5 + i as f32 * 0.2;
+            let y = -1.1 + j as f32 * 0.2;
+            let z = r.range(2.0, 6.0);
+            let n = [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.5, 0.5)];
+            v.extend(
+                [
+                    f(x),
+                    f(y),
+                    f(z),
+                    f(n[0]),
+                    f(n[1]),
+                    f(n[2]),
+                    r.color() | 0x4000_0000,
+                    r.color(),
+                ]
+                .iter()
+                .flat_map(|w| w.to_le_bytes()),
+            );
+        }
+    }
+    v
+}
+
+const LIT_FVF: Fvf = Fvf(Fvf::XYZ.0 | Fvf::NORMAL.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+
+/// SPEC 8: every light type, attenuation, range, spot cones, specular with a local and an
+/// infinite viewer, material sources, NORMALIZENORMALS, on both backends.
+#[test]
+fn spec_8_lighting_each_light_type() {
+    use pointillist_core::light::{Light, LightType, Material};
+    let mut r = Rng(0x11_6475);
+    let grid = lit_grid(&mut r);
+    let lights = [
+        Light {
+            diffuse: [0.9, 0.8, 0.7, 1.0],
+            specular: [1.0, 1.0, 1.0, 1.0],
+            ambient: [0.1, 0.1, 0.2, 0.0],
+            direction: [0.3, -0.5, 1.0],
+            ..Light::zeroed(LightType::Directional)
+        },
+        Light {
+            diffuse: [0.2, 0.9, 0.3, 1.0],
+            specular: [0.5, 1.0, 0.5, 1.0],
+            ambient: [0.0, 0.2, 0.0, 0.0],
+            position: [1.0, 1.0, 1.0],
+            range: 5.5,
+            attenuation0: 0.5,
+            attenuation1: 0.2,
+            attenuation2: 0.05,
+            ..Light::zeroed(LightType::Point)
+        },
+        Light {
+            diffuse: [1.0, 0.3, 0.2, 1.0],
+            specular: [1.0, 0.5, 0.5, 0.5],
+            position: [-1.0, 0.5, -1.0],
+            direction: [0.2, -0.1, 1.0],
+            range: 20.0,
+            attenuation0: 1.0,
+            falloff: 2.0,
+            theta: 0.3,
+            phi: 0.8,
+            ..Light::zeroed(LightType::Spot)
+        },
+    ];
+    for case in 0..6 {
+        let name = format!("spec_8_lighting_{case}");
+        check(&name, 96, 72, Tolerance::Exact, |d| {
+            perspective(d, 96.0 / 72.0);
+            d.set_render_state(RenderState::LIGHTING, true);
+            d.set_transform(
+                TransformType::View,
+                Mat4::look_at_lh([0.2, 0.3, -1.0], [0.0, 0.0, 4.0], [0.0, 1.0, 0.0]),
+            );
+            d.set_render_state(RenderState::POINTSIZE, 5.0f32);
+            d.set_render_state(RenderState::SPECULARENABLE, case % 3 != 2);
+            d.set_render_state(RenderState::LOCALVIEWER, case % 2 == 0);
+            d.set_render_state(RenderState::NORMALIZENORMALS, case < 4);
+            d.set_render_state(RenderState::AMBIENT, 0xFF20_1008u32);
+            if case == 3 {
+                d.set_render_state(RenderState::AMBIENTMATERIALSOURCE, 1u32);
+                d.set_render_state(RenderState::EMISSIVEMATERIALSOURCE, 2u32);
+                d.set_render_state(RenderState::DIFFUSEMATERIALSOURCE, 0u32);
+            }
+            if case == 5 {
+                d.set_render_state(RenderState::COLORVERTEX, false);
+            }
+            d.set_material(Material {
+                diffuse: [0.8, 0.7, 0.9, 0.75],
+                ambient: [0.5, 0.5, 0.5, 1.0],
+                specular: [0.9, 0.9, 0.9, 1.0],
+                emissive: [0.05, 0.0, 0.1, 0.0],
+                power: [8.0, 20.0, 0.0][case % 3],
+            });
+            for (k, l) in lights.iter().enumerate() {
+                if case == 4 && k == 0 {
+                    continue; // only the positional lights
+                }
+                d.set_light(k as u32 * 2, *l)?;
+                d.light_enable(k as u32 * 2, true);
+            }
+            d.draw_point_list(LIT_FVF, &grid)
+        });
+    }
+}
+
+/// SPEC 9: vertex fog (LINEAR, EXP, EXP2, range), table fog (z and w), the specular alpha of
+/// pre-transformed points, on flat points and textured sprites, on both backends.
+#[test]
+fn spec_9_fog_each_mode() {
+    let mut r = Rng(0xF06);
+    let grid = lit_grid(&mut r);
+    let texture = distinct_texture(4, 4);
+    let modes = [
+        (3u32, 0u32, false), // vertex LINEAR
+        (1, 0, false),       // vertex EXP
+        (2, 0, true),        // vertex EXP2, range
+        (0, 3, false),       // table LINEAR (w)
+        (1, 2, false),       // table EXP2 wins over vertex EXP
+        (0, 0, false),       // specular alpha
+    ];
+    for (case, &(vertex, table, range)) in modes.iter().enumerate() {
+        for sprite in [false, true] {
+            let name = format!("spec_9_fog_{case}_{sprite}");
+            check(&name, 96, 72, Tolerance::Exact, |d| {
+                perspective(d, 96.0 / 72.0);
+                d.set_render_state(RenderState::POINTSIZE, 5.0f32);
+                d.set_render_state(RenderState::FOGENABLE, true);
+                d.set_render_state(RenderState::FOGCOLOR, 0xFF30_6090u32);
+                d.set_render_state(RenderState::FOGVERTEXMODE, vertex);
+                d.set_render_state(RenderState::FOGTABLEMODE, table);
+                d.set_render_state(RenderState::RANGEFOGENABLE, range);
+                d.set_render_state(RenderState::FOGSTART, 2.5f32);
+                d.set_render_state(RenderState::FOGEND, 5.5f32);
+                d.set_render_state(RenderState::FOGDENSITY, 0.3f32);
+                d.set_render_state(RenderState::SPECULARENABLE, true);
+                if sprite {
+                    bind(d, 0, &texture, TextureFilter::Point);
+                    d.set_render_state(RenderState::POINTSPRITEENABLE, true);
+                    // Fractional blending: the GPU's exact path records the fog factor.
+                    d.set_render_state(RenderState::ALPHABLENDENABLE, true);
+                    d.set_render_state(RenderState::SRCBLEND, Blend::SrcAlpha);
+                    d.set_render_state(RenderState::DESTBLEND, Blend::InvSrcAlpha);
+                }
+                d.draw_point_list(LIT_FVF, &grid)?;
+                // Pre-transformed points: the specular alpha, or z with table fog.
+                let rhw = Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+                let mut v = Vec::new();
+                for k in 0..8u32 {
+                    let words = [
+                        f(8.0 + 10.0 * k as f32),
+                        f(64.0),
+                        f(0.1 * k as f32 + 0.1),
+                        f(1.0 / (1.0 + k as f32)),
+                        0xFFE0_C0A0,
+                        (k * 0x24) << 24,
+                    ];
+                    v.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+                }
+                d.draw_point_list(rhw, &v)
+            });
+        }
     }
 }
