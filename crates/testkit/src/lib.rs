@@ -28,8 +28,9 @@ use pointillist_core::device::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
 };
 use pointillist_core::fvf::Fvf;
+use pointillist_core::light::LightType;
 use pointillist_core::pixel::PixelSetup;
-use pointillist_core::states::Blend;
+use pointillist_core::states::{Blend, FogMode, RenderState};
 use pointillist_core::texture::{SamplerDesc, is_linear};
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
@@ -70,6 +71,12 @@ fn is_whole(b: Blend) -> bool {
 /// | texture-stage arithmetic, alpha test, depth test, write masks       | exact      |
 /// | any other blend factor (SRCALPHA, DESTCOLOR, BLENDFACTOR, ...)      | 1/255      |
 /// | a sampling stage filtering linearly (MIN/MAG, or MIPFILTER LINEAR)  | 1/255      |
+/// | lighting with SPECULARENABLE or a spot light, EXP or EXP2 fog       | 1/255      |
+///
+/// Lighting and fog go through float arithmetic on both backends, in the same order; `+ - * /`
+/// and `sqrt` are correctly rounded on both, but WGSL's `pow` and `exp` (specular highlights,
+/// a spot cone's falloff, exponential fog: SPEC 8.4, 8.6, 9.3) are only accurate to a few ULP,
+/// so a colour within an ULP of a rounding boundary may quantise one step apart.
 ///
 /// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
 /// comes (on lavapipe every golden scene and conformance test is bit for bit).
@@ -91,11 +98,28 @@ pub fn draw_tolerance(state: &DeviceState) -> Tolerance {
             let s = SamplerDesc::from_states(&state.sampler_states[i]);
             is_linear(s.mag) || is_linear(s.min) || is_linear(s.mip)
         });
-    if blends || filters {
+    if blends || filters || exponentials(state) {
         Tolerance::Steps(1)
     } else {
         Tolerance::Exact
     }
+}
+
+/// True when a draw with `state` may light with `pow` (a specular highlight or a spot light's
+/// falloff, SPEC 8.4, 8.6) or fog with `exp` (SPEC 9.3).
+fn exponentials(state: &DeviceState) -> bool {
+    let rs = |s: RenderState| state.render_state(s);
+    let lit = rs(RenderState::LIGHTING) != 0
+        && (rs(RenderState::SPECULARENABLE) != 0
+            || state
+                .lights
+                .active()
+                .any(|(_, l)| l.light_type == LightType::Spot));
+    let exp =
+        |s: RenderState| matches!(FogMode::from_raw(rs(s)), Some(FogMode::Exp | FogMode::Exp2));
+    let fog = rs(RenderState::FOGENABLE) != 0
+        && (exp(RenderState::FOGTABLEMODE) || exp(RenderState::FOGVERTEXMODE));
+    lit || fog
 }
 
 /// Whether the GPU side was skipped already (the message is printed once per test binary).
