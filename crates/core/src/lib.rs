@@ -10,9 +10,11 @@
 pub mod caps;
 pub mod color;
 pub mod device;
+pub mod draw;
 pub mod fvf;
 pub mod math;
 pub mod pixel;
 pub mod point;
+pub mod state;
 pub mod states;
 pub mod texture;

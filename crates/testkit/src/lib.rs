@@ -24,12 +24,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
-};
-use pointillist_core::fvf::Fvf;
-use pointillist_core::pixel::PixelSetup;
-use pointillist_core::states::Blend;
+use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::draw::DrawSetup;
 use pointillist_core::texture::{SamplerDesc, is_linear};
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
@@ -55,43 +51,33 @@ impl Tolerance {
     }
 }
 
-/// True for blend factors whose value is 0 or 1 in every channel: blending with them involves
-/// no rounding.
-fn is_whole(b: Blend) -> bool {
-    matches!(b, Blend::Zero | Blend::One)
-}
-
-/// The tolerance table (SPEC 7): how close the GPU must be for a draw with `state`.
+/// The tolerance table (SPEC 7): how close the GPU must be for `draw`.
 ///
 /// | the draw                                                            | tolerance  |
 /// | ------------------------------------------------------------------- | ---------- |
-/// | no blending, or blend factors ZERO / ONE only (any BLENDOP)         | exact      |
+/// | no blending, or a blend that does not round (core's `BlendClass`:   | exact      |
+/// | ZERO / ONE factors, or MIN / MAX, which use none)                   |            |
 /// | point sampling (MIN, MAG POINT or NONE; MIPFILTER NONE or POINT)    | exact      |
 /// | texture-stage arithmetic, alpha test, depth test, write masks       | exact      |
-/// | any other blend factor (SRCALPHA, DESTCOLOR, BLENDFACTOR, ...)      | 1/255      |
+/// | a blend that rounds (SRCALPHA, DESTCOLOR, BLENDFACTOR, ... factors) | 1/255      |
 /// | a sampling stage filtering linearly (MIN/MAG, or MIPFILTER LINEAR)  | 1/255      |
 ///
 /// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
 /// comes (on lavapipe every golden scene and conformance test is bit for bit).
-pub fn draw_tolerance(state: &DeviceState) -> Tolerance {
+pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
     if std::env::var("POINTILLIST_GPU_EXACT").is_ok_and(|v| v == "1") {
         return Tolerance::Exact;
     }
-    let pixel = PixelSetup::new(state);
-    let blends = pixel.blend.is_some_and(|b| {
-        ![b.src, b.dst, b.src_alpha, b.dst_alpha]
-            .into_iter()
-            .all(is_whole)
-    });
+    let pixel = &draw.pixel;
     let filters = pixel.stages[..pixel.stage_count]
         .iter()
         .enumerate()
         .filter(|(_, st)| st.samples)
         .any(|(i, _)| {
-            let s = SamplerDesc::from_states(&state.sampler_states[i]);
+            let s = SamplerDesc::from_states(&draw.state.sampler_states[i]);
             is_linear(s.mag) || is_linear(s.min) || is_linear(s.mip)
         });
-    if blends || filters {
+    if draw.blend.rounds() || filters {
         Tolerance::Steps(1)
     } else {
         Tolerance::Exact
@@ -333,16 +319,11 @@ impl Backend for DualBackend {
         Ok(())
     }
 
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
-        self.cpu.draw_points(state, fvf, vertices)?;
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
+        self.cpu.draw_points(draw, vertices)?;
         if let Some(g) = &mut self.gpu {
-            g.draw_points(state, fvf, vertices)?;
-            self.tolerance = self.tolerance.max(draw_tolerance(state));
+            g.draw_points(draw, vertices)?;
+            self.tolerance = self.tolerance.max(draw_tolerance(draw));
         }
         Ok(())
     }
@@ -376,36 +357,64 @@ pub fn device_named(desc: DeviceDesc, name: &str) -> Result<DualDevice, DeviceEr
 mod tests {
     use super::*;
     use pointillist_core::caps::Caps;
-    use pointillist_core::states::{Api, RenderState, SamplerState, TextureFilter};
+    use pointillist_core::device::DeviceState;
+    use pointillist_core::fvf::Fvf;
+    use pointillist_core::states::{Api, Blend, BlendOp, RenderState, SamplerState, TextureFilter};
 
     fn state() -> DeviceState {
         DeviceState::new(Api::D3d9, Caps::reference(), 4, 4)
     }
 
+    fn tolerance(state: &DeviceState) -> Tolerance {
+        draw_tolerance(&DrawSetup::new(state, Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0)))
+    }
+
     #[test]
     fn spec_7_tolerance_table() {
         let mut s = state();
-        assert_eq!(draw_tolerance(&s), Tolerance::Exact);
+        assert_eq!(tolerance(&s), Tolerance::Exact);
         s.render_states[RenderState::ALPHABLENDENABLE.0 as usize] = 1;
-        for (src, dst, tol) in [
-            (Blend::One, Blend::One, Tolerance::Exact),
-            (Blend::One, Blend::Zero, Tolerance::Exact),
-            (Blend::Zero, Blend::One, Tolerance::Exact),
-            (Blend::SrcAlpha, Blend::InvSrcAlpha, Tolerance::Steps(1)),
-            (Blend::One, Blend::DestColor, Tolerance::Steps(1)),
-            (Blend::BlendFactor, Blend::Zero, Tolerance::Steps(1)),
+        for (src, dst, op, tol) in [
+            (Blend::One, Blend::One, BlendOp::Add, Tolerance::Exact),
+            (Blend::One, Blend::Zero, BlendOp::Add, Tolerance::Exact),
+            (Blend::Zero, Blend::One, BlendOp::Subtract, Tolerance::Exact),
+            (
+                Blend::SrcAlpha,
+                Blend::InvSrcAlpha,
+                BlendOp::Max,
+                Tolerance::Exact,
+            ),
+            (
+                Blend::SrcAlpha,
+                Blend::InvSrcAlpha,
+                BlendOp::Add,
+                Tolerance::Steps(1),
+            ),
+            (
+                Blend::One,
+                Blend::DestColor,
+                BlendOp::Add,
+                Tolerance::Steps(1),
+            ),
+            (
+                Blend::BlendFactor,
+                Blend::Zero,
+                BlendOp::Add,
+                Tolerance::Steps(1),
+            ),
         ] {
             s.render_states[RenderState::SRCBLEND.0 as usize] = src as u32;
             s.render_states[RenderState::DESTBLEND.0 as usize] = dst as u32;
-            assert_eq!(draw_tolerance(&s), tol, "{src:?} {dst:?}");
+            s.render_states[RenderState::BLENDOP.0 as usize] = op as u32;
+            assert_eq!(tolerance(&s), tol, "{src:?} {dst:?} {op:?}");
         }
         let mut s = state();
         s.textures[0] = Some(Arc::new(
             pointillist_core::texture::Texture::from_argb(1, 1, vec![0]).expect("texture"),
         ));
-        assert_eq!(draw_tolerance(&s), Tolerance::Exact, "point sampling");
+        assert_eq!(tolerance(&s), Tolerance::Exact, "point sampling");
         s.sampler_states[0][SamplerState::MAGFILTER.0 as usize] = TextureFilter::Linear as u32;
-        assert_eq!(draw_tolerance(&s), Tolerance::Steps(1), "bilinear");
+        assert_eq!(tolerance(&s), Tolerance::Steps(1), "bilinear");
     }
 
     #[test]
