@@ -16,3 +16,4 @@ pub mod pixel;
 pub mod point;
 pub mod states;
 pub mod texture;
+pub mod tolerance;

@@ -320,14 +320,14 @@ pub fn plane_device(caps: Caps, index: usize, plane: [f32; 4]) -> TestDevice {
     d
 }
 
-/// Runs the case `cases/FOLDER/NAME.toml` (`pointillist_conformance::run_case`), failing with
+/// Runs the case `cases/FOLDER/NAME.toml` (`crate::run::run_case`), failing with
 /// its message.
 #[track_caller]
 pub fn case(folder: &str, name: &str) {
-    let file = pointillist_conformance::cases_dir()
+    let file = crate::run::cases_dir()
         .join(folder)
         .join(format!("{name}.toml"));
-    if let Err(e) = pointillist_conformance::run_case(&file) {
+    if let Err(e) = crate::run::run_case(&file) {
         panic!("{e}");
     }
 }
@@ -335,7 +335,7 @@ pub fn case(folder: &str, name: &str) {
 /// Asserts that the case files of `cases/FOLDER` are exactly `names`: every file has its test.
 #[track_caller]
 pub fn folder_holds(folder: &str, names: &[&str]) {
-    let dir = pointillist_conformance::cases_dir().join(folder);
+    let dir = crate::run::cases_dir().join(folder);
     let mut files: Vec<String> = pointillist_scene::list_cases(&dir)
         .unwrap_or_else(|e| panic!("{e}"))
         .iter()

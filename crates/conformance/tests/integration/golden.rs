@@ -18,7 +18,7 @@ use std::path::PathBuf;
 
 use pointillist_image::png::encode_png_rgba8;
 
-use pointillist_conformance::{Image, check_image, diff_image, failures_dir, read_png, write_png};
+use crate::run::{Image, check_image, diff_image, failures_dir, read_png, write_png};
 
 cases!("golden":
     api_d3d8,

@@ -3,10 +3,11 @@
 //!
 //! Each case is a scene file under `crates/conformance/cases/` (its README describes the
 //! layout and docs/spec/SCENE.md the `[case]` table), run by one test of the same name on every
-//! backend (`pointillist_conformance::run_case`). API behaviour a scene cannot state (state
+//! backend (`run::run_case`). API behaviour a scene cannot state (state
 //! read-back, validation errors, notices) is tested in Rust beside the cases of its chapter.
 
 mod common;
+mod run;
 
 /// One test per case file of `cases/$folder` (named after the file), and
 /// `every_case_file_has_a_test`, which fails when the folder holds a file the list lacks or

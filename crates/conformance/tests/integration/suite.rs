@@ -3,7 +3,7 @@
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use pointillist_conformance::cases_dir;
+use crate::run::cases_dir;
 
 /// The folders of `cases/`, each with its list of cases in a chapter module.
 const FOLDERS: [&str; 2] = ["2-size", "golden"];
