@@ -18,3 +18,4 @@ pub mod point;
 pub mod state;
 pub mod states;
 pub mod texture;
+pub mod tolerance;

@@ -26,62 +26,22 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_core::draw::DrawSetup;
-use pointillist_core::texture::{SamplerDesc, is_linear};
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 
 pub mod parity;
 
 /// How close the GPU backend's colours must be to the CPU backend's.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Tolerance {
-    /// Bit for bit.
-    Exact,
-    /// At most this many 1/255 steps per channel.
-    Steps(u8),
-}
+pub use pointillist_core::tolerance::Tolerance;
 
-impl Tolerance {
-    /// The largest channel difference allowed.
-    pub fn steps(self) -> u8 {
-        match self {
-            Tolerance::Exact => 0,
-            Tolerance::Steps(s) => s,
-        }
-    }
-}
-
-/// The tolerance table (SPEC 7): how close the GPU must be for `draw`.
-///
-/// | the draw                                                            | tolerance  |
-/// | ------------------------------------------------------------------- | ---------- |
-/// | no blending, or a blend that does not round (core's `BlendClass`:   | exact      |
-/// | ZERO / ONE factors, or MIN / MAX, which use none)                   |            |
-/// | point sampling (MIN, MAG POINT or NONE; MIPFILTER NONE or POINT)    | exact      |
-/// | texture-stage arithmetic, alpha test, depth test, write masks       | exact      |
-/// | a blend that rounds (SRCALPHA, DESTCOLOR, BLENDFACTOR, ... factors) | 1/255      |
-/// | a sampling stage filtering linearly (MIN/MAG, or MIPFILTER LINEAR)  | 1/255      |
-///
+/// The tolerance table (SPEC 7, [`pointillist_core::tolerance::draw_tolerance`]) for `draw`.
 /// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
 /// comes (on lavapipe every golden scene and conformance test is bit for bit).
 pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
     if std::env::var("POINTILLIST_GPU_EXACT").is_ok_and(|v| v == "1") {
         return Tolerance::Exact;
     }
-    let pixel = &draw.pixel;
-    let filters = pixel.stages[..pixel.stage_count]
-        .iter()
-        .enumerate()
-        .filter(|(_, st)| st.samples)
-        .any(|(i, _)| {
-            let s = SamplerDesc::from_states(&draw.state.sampler_states[i]);
-            is_linear(s.mag) || is_linear(s.min) || is_linear(s.mip)
-        });
-    if draw.blend.rounds() || filters {
-        Tolerance::Steps(1)
-    } else {
-        Tolerance::Exact
-    }
+    pointillist_core::tolerance::draw_tolerance(draw)
 }
 
 /// Whether the GPU side was skipped already (the message is printed once per test binary).
@@ -356,66 +316,6 @@ pub fn device_named(desc: DeviceDesc, name: &str) -> Result<DualDevice, DeviceEr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pointillist_core::caps::Caps;
-    use pointillist_core::device::DeviceState;
-    use pointillist_core::fvf::Fvf;
-    use pointillist_core::states::{Api, Blend, BlendOp, RenderState, SamplerState, TextureFilter};
-
-    fn state() -> DeviceState {
-        DeviceState::new(Api::D3d9, Caps::reference(), 4, 4)
-    }
-
-    fn tolerance(state: &DeviceState) -> Tolerance {
-        draw_tolerance(&DrawSetup::new(state, Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0)))
-    }
-
-    #[test]
-    fn spec_7_tolerance_table() {
-        let mut s = state();
-        assert_eq!(tolerance(&s), Tolerance::Exact);
-        s.render_states[RenderState::ALPHABLENDENABLE.0 as usize] = 1;
-        for (src, dst, op, tol) in [
-            (Blend::One, Blend::One, BlendOp::Add, Tolerance::Exact),
-            (Blend::One, Blend::Zero, BlendOp::Add, Tolerance::Exact),
-            (Blend::Zero, Blend::One, BlendOp::Subtract, Tolerance::Exact),
-            (
-                Blend::SrcAlpha,
-                Blend::InvSrcAlpha,
-                BlendOp::Max,
-                Tolerance::Exact,
-            ),
-            (
-                Blend::SrcAlpha,
-                Blend::InvSrcAlpha,
-                BlendOp::Add,
-                Tolerance::Steps(1),
-            ),
-            (
-                Blend::One,
-                Blend::DestColor,
-                BlendOp::Add,
-                Tolerance::Steps(1),
-            ),
-            (
-                Blend::BlendFactor,
-                Blend::Zero,
-                BlendOp::Add,
-                Tolerance::Steps(1),
-            ),
-        ] {
-            s.render_states[RenderState::SRCBLEND.0 as usize] = src as u32;
-            s.render_states[RenderState::DESTBLEND.0 as usize] = dst as u32;
-            s.render_states[RenderState::BLENDOP.0 as usize] = op as u32;
-            assert_eq!(tolerance(&s), tol, "{src:?} {dst:?} {op:?}");
-        }
-        let mut s = state();
-        s.textures[0] = Some(Arc::new(
-            pointillist_core::texture::Texture::from_argb(1, 1, vec![0]).expect("texture"),
-        ));
-        assert_eq!(tolerance(&s), Tolerance::Exact, "point sampling");
-        s.sampler_states[0][SamplerState::MAGFILTER.0 as usize] = TextureFilter::Linear as u32;
-        assert_eq!(tolerance(&s), Tolerance::Steps(1), "bilinear");
-    }
 
     #[test]
     fn compare_reports_and_writes_images() {
