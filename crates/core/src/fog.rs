@@ -6,9 +6,9 @@
 //! For a point every pixel has the same depth, so the factor is computed once per point.
 
 use crate::color::{Rgba, unpack};
-use crate::device::DeviceState;
 use crate::fvf::Fvf;
 use crate::math::Mat4;
+use crate::state::DeviceState;
 use crate::states::{FogMode, RenderState};
 
 /// Where a draw's fog factor comes from (SPEC 9.2).

@@ -10,11 +10,14 @@
 pub mod caps;
 pub mod color;
 pub mod device;
+pub mod draw;
 pub mod fog;
 pub mod fvf;
 pub mod light;
 pub mod math;
 pub mod pixel;
 pub mod point;
+pub mod state;
 pub mod states;
 pub mod texture;
+pub mod tolerance;

@@ -10,8 +10,8 @@ use std::collections::BTreeMap;
 use std::fmt;
 
 use crate::color::{Rgba, pack, unpack};
-use crate::device::DeviceState;
 use crate::fvf::Fvf;
+use crate::state::DeviceState;
 use crate::states::{MaterialColorSource, RenderState};
 
 /// D3DCAPS9.MaxActiveLights: lights that light a vertex at once (SPEC 8.2).
@@ -244,6 +244,11 @@ impl Lights {
     /// GetLight / GetLightEnable: the slot at `index`, if SetLight or LightEnable made one.
     pub fn get(&self, index: u32) -> Option<&LightSlot> {
         self.slots.get(&index)
+    }
+
+    /// Every light index SetLight or LightEnable made, in index order.
+    pub fn iter(&self) -> impl Iterator<Item = (u32, &LightSlot)> {
+        self.slots.iter().map(|(&i, s)| (i, s))
     }
 
     /// Number of enabled lights.

@@ -12,114 +12,43 @@
 //! `POINTILLIST_REQUIRE_GPU=1` (CI sets it), which makes a missing adapter a failure.
 //!
 //! Contract:
-//! - [`draw_tolerance`] is the one place that says how close the GPU must be: exact where no
-//!   filtering or blending arithmetic is involved, 1/255 per channel otherwise (SPEC 7).
+//! - [`draw_tolerance`] says how close the GPU must be (core's table, SPEC 7): exact where no
+//!   filtering or rounding blend is involved, 1/255 per channel otherwise.
 //! - A device's tolerance is the largest of its draws' since its last clear, since a pixel
 //!   keeps the difference an earlier draw left in it.
 //! - Depths are compared by value within 0..=1, the range a WebGPU depth buffer holds, with
 //!   subnormal depths flushed to 0 as GPUs do.
+//!
+//! Where a test needs a given tolerance or GPU context, [`check`], [`check_on`] and their
+//! variants run one scene closure on a fresh CPU and a fresh GPU device and compare them.
 
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
-};
-use pointillist_core::fvf::Fvf;
-use pointillist_core::light::LightType;
-use pointillist_core::pixel::PixelSetup;
-use pointillist_core::states::{Blend, FogMode, RenderState};
-use pointillist_core::texture::{SamplerDesc, is_linear};
+use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::draw::DrawSetup;
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 
-pub mod parity;
+mod parity;
+
+pub use parity::{
+    AnyBackend, AnyDevice, check, check_desc, check_on, cpu, gpu, run_on, try_check_on,
+};
 
 /// How close the GPU backend's colours must be to the CPU backend's.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Tolerance {
-    /// Bit for bit.
-    Exact,
-    /// At most this many 1/255 steps per channel.
-    Steps(u8),
-}
+pub use pointillist_core::tolerance::Tolerance;
 
-impl Tolerance {
-    /// The largest channel difference allowed.
-    pub fn steps(self) -> u8 {
-        match self {
-            Tolerance::Exact => 0,
-            Tolerance::Steps(s) => s,
-        }
-    }
-}
-
-/// True for blend factors whose value is 0 or 1 in every channel: blending with them involves
-/// no rounding.
-fn is_whole(b: Blend) -> bool {
-    matches!(b, Blend::Zero | Blend::One)
-}
-
-/// The tolerance table (SPEC 7): how close the GPU must be for a draw with `state`.
-///
-/// | the draw                                                            | tolerance  |
-/// | ------------------------------------------------------------------- | ---------- |
-/// | no blending, or blend factors ZERO / ONE only (any BLENDOP)         | exact      |
-/// | point sampling (MIN, MAG POINT or NONE; MIPFILTER NONE or POINT)    | exact      |
-/// | texture-stage arithmetic, alpha test, depth test, write masks       | exact      |
-/// | any other blend factor (SRCALPHA, DESTCOLOR, BLENDFACTOR, ...)      | 1/255      |
-/// | a sampling stage filtering linearly (MIN/MAG, or MIPFILTER LINEAR)  | 1/255      |
-/// | lighting with SPECULARENABLE or a spot light, EXP or EXP2 fog       | 1/255      |
-///
-/// Lighting and fog go through float arithmetic on both backends, in the same order; `+ - * /`
-/// and `sqrt` are correctly rounded on both, but WGSL's `pow` and `exp` (specular highlights,
-/// a spot cone's falloff, exponential fog: SPEC 8.4, 8.6, 9.3) are only accurate to a few ULP,
-/// so a colour within an ULP of a rounding boundary may quantise one step apart.
-///
+/// The tolerance table (SPEC 7, [`pointillist_core::tolerance::draw_tolerance`]) for `draw`.
 /// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
 /// comes (on lavapipe every golden scene and conformance test is bit for bit).
-pub fn draw_tolerance(state: &DeviceState) -> Tolerance {
+pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
     if std::env::var("POINTILLIST_GPU_EXACT").is_ok_and(|v| v == "1") {
         return Tolerance::Exact;
     }
-    let pixel = PixelSetup::new(state);
-    let blends = pixel.blend.is_some_and(|b| {
-        ![b.src, b.dst, b.src_alpha, b.dst_alpha]
-            .into_iter()
-            .all(is_whole)
-    });
-    let filters = pixel.stages[..pixel.stage_count]
-        .iter()
-        .enumerate()
-        .filter(|(_, st)| st.samples)
-        .any(|(i, _)| {
-            let s = SamplerDesc::from_states(&state.sampler_states[i]);
-            is_linear(s.mag) || is_linear(s.min) || is_linear(s.mip)
-        });
-    if blends || filters || exponentials(state) {
-        Tolerance::Steps(1)
-    } else {
-        Tolerance::Exact
-    }
-}
-
-/// True when a draw with `state` may light with `pow` (a specular highlight or a spot light's
-/// falloff, SPEC 8.4, 8.6) or fog with `exp` (SPEC 9.3).
-fn exponentials(state: &DeviceState) -> bool {
-    let rs = |s: RenderState| state.render_state(s);
-    let lit = rs(RenderState::LIGHTING) != 0
-        && (rs(RenderState::SPECULARENABLE) != 0
-            || state
-                .lights
-                .active()
-                .any(|(_, l)| l.light_type == LightType::Spot));
-    let exp =
-        |s: RenderState| matches!(FogMode::from_raw(rs(s)), Some(FogMode::Exp | FogMode::Exp2));
-    let fog = rs(RenderState::FOGENABLE) != 0
-        && (exp(RenderState::FOGTABLEMODE) || exp(RenderState::FOGVERTEXMODE));
-    lit || fog
+    pointillist_core::tolerance::draw_tolerance(draw)
 }
 
 /// Whether the GPU side was skipped already (the message is printed once per test binary).
@@ -357,16 +286,11 @@ impl Backend for DualBackend {
         Ok(())
     }
 
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
-        self.cpu.draw_points(state, fvf, vertices)?;
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
+        self.cpu.draw_points(draw, vertices)?;
         if let Some(g) = &mut self.gpu {
-            g.draw_points(state, fvf, vertices)?;
-            self.tolerance = self.tolerance.max(draw_tolerance(state));
+            g.draw_points(draw, vertices)?;
+            self.tolerance = self.tolerance.max(draw_tolerance(draw));
         }
         Ok(())
     }
@@ -399,38 +323,6 @@ pub fn device_named(desc: DeviceDesc, name: &str) -> Result<DualDevice, DeviceEr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pointillist_core::caps::Caps;
-    use pointillist_core::states::{Api, RenderState, SamplerState, TextureFilter};
-
-    fn state() -> DeviceState {
-        DeviceState::new(Api::D3d9, Caps::reference(), 4, 4)
-    }
-
-    #[test]
-    fn spec_7_tolerance_table() {
-        let mut s = state();
-        assert_eq!(draw_tolerance(&s), Tolerance::Exact);
-        s.render_states[RenderState::ALPHABLENDENABLE.0 as usize] = 1;
-        for (src, dst, tol) in [
-            (Blend::One, Blend::One, Tolerance::Exact),
-            (Blend::One, Blend::Zero, Tolerance::Exact),
-            (Blend::Zero, Blend::One, Tolerance::Exact),
-            (Blend::SrcAlpha, Blend::InvSrcAlpha, Tolerance::Steps(1)),
-            (Blend::One, Blend::DestColor, Tolerance::Steps(1)),
-            (Blend::BlendFactor, Blend::Zero, Tolerance::Steps(1)),
-        ] {
-            s.render_states[RenderState::SRCBLEND.0 as usize] = src as u32;
-            s.render_states[RenderState::DESTBLEND.0 as usize] = dst as u32;
-            assert_eq!(draw_tolerance(&s), tol, "{src:?} {dst:?}");
-        }
-        let mut s = state();
-        s.textures[0] = Some(Arc::new(
-            pointillist_core::texture::Texture::from_argb(1, 1, vec![0]).expect("texture"),
-        ));
-        assert_eq!(draw_tolerance(&s), Tolerance::Exact, "point sampling");
-        s.sampler_states[0][SamplerState::MAGFILTER.0 as usize] = TextureFilter::Linear as u32;
-        assert_eq!(draw_tolerance(&s), Tolerance::Steps(1), "bilinear");
-    }
 
     #[test]
     fn compare_reports_and_writes_images() {
