@@ -53,7 +53,6 @@ use pointillist_core::draw::DrawSetup;
 
 pub use context::{AdapterSummary, ContextOptions, GpuContext, GpuError};
 pub use pipeline::{ClipPlaneMethod, TargetDesc};
-pub use pointillist_core::device;
 pub use renderer::{PointRenderer, PreparedDraw};
 /// The wgpu this crate is built on, for engines that embed it.
 pub use wgpu;

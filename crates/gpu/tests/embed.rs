@@ -10,7 +10,7 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Api, Blend, RenderState};
 use pointillist_core::texture::Texture;
 use pointillist_gpu::{GpuContext, PointRenderer, TargetDesc};
-use pointillist_testkit::parity::{Tolerance, compare, cpu, gpu_context};
+use pointillist_testkit::{Tolerance, compare, cpu, gpu_context};
 
 const W: u32 = 64;
 const H: u32 = 48;

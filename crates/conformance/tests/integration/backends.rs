@@ -3,7 +3,7 @@
 //! in both CLIPPLANESCALEDPOINTS modes), sprite coordinates, texture-stage operations,
 //! samplers, alpha test, specular, depth test and write, blending, COLORWRITEENABLE.
 //!
-//! Every scene runs on both backends from the same closure (`pointillist_testkit::parity::check`):
+//! Every scene runs on both backends from the same closure (`pointillist_testkit::check`):
 //! exact where no filtering or blending arithmetic is involved, within 1/255 per channel
 //! otherwise.
 
@@ -23,7 +23,7 @@ use pointillist_core::states::{
 };
 use pointillist_core::texture::Texture;
 use pointillist_gpu::{ContextOptions, GpuContext};
-use pointillist_testkit::parity::{
+use pointillist_testkit::{
     AnyDevice, Tolerance, check, check_desc, check_on, gpu_context, try_check_on,
 };
 
