@@ -24,7 +24,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{Device, DeviceDesc};
+use pointillist_core::{Device, DeviceDesc};
 use pointillist_cpu::CpuBackend;
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::Scene;
