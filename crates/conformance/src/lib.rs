@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 use pointillist_core::caps::Caps;
 use pointillist_core::color::rgba8_to_argb;
-use pointillist_core::device::{Device, DeviceDesc, RenderTarget};
+use pointillist_core::{Device, DeviceDesc, RenderTarget};
 use pointillist_cpu::CpuBackend;
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::Scene;

@@ -10,11 +10,11 @@ use pointillist_conformance::expect::Status;
 use pointillist_conformance::runner::{DeviceInfo, Image, Runner, read_png};
 use pointillist_conformance::{Options, conform, device_caps, export, find_cases, render};
 use pointillist_core::caps::{Caps, VertexProcessing};
-use pointillist_core::device::{Device, DeviceDesc, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 use pointillist_core::texture::Texture;
+use pointillist_core::{Device, DeviceDesc, TransformType, Viewport};
 use pointillist_cpu::CpuBackend;
 
 fn repo() -> PathBuf {
