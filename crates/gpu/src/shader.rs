@@ -24,11 +24,11 @@ use pointillist_core::states::{
 };
 
 use pointillist_core::color::WHITE;
-use pointillist_core::device::{MAX_CLIP_PLANES, MAX_STAGES};
 use pointillist_core::fog::FogSource;
 use pointillist_core::light::ColorSource;
 use pointillist_core::states::FogMode;
 use pointillist_core::texture::COORD_LIMIT;
+use pointillist_core::{MAX_CLIP_PLANES, MAX_STAGES};
 
 use crate::exact::{POINTS_PER_GROUP, TILE};
 use crate::pipeline::{PipelineKey, StageKey};

@@ -3,7 +3,7 @@
 //! light), through the public device API on both backends.
 
 use crate::common::*;
-use pointillist_core::device::DeviceError;
+use pointillist_core::DeviceError;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::light::{Light, LightType};
 use pointillist_core::states::RenderState;
