@@ -340,6 +340,18 @@ fn _encode_png<'py>(
     Ok(pyo3::types::PyBytes::new(py, &png))
 }
 
+/// Writes an `(h, w, 4)` uint8 RGBA array as a PNG file, atomically (as `pointillist render`
+/// writes its output: an existing file is replaced only by a complete one).
+#[pyfunction]
+fn _save_png(py: Python<'_>, path: std::path::PathBuf, rgba: &Bound<'_, PyAny>) -> PyResult<()> {
+    let a = rgba_bytes("image", rgba)?;
+    let (h, w) = (a.shape()[0] as u32, a.shape()[1] as u32);
+    let a = a.try_readonly()?;
+    let bytes = contiguous(a.as_slice())?;
+    py.detach(|| pointillist_image::write_png_atomic(&path, w, h, bytes))
+        .map_err(|e| errors::Error::new_err(format!("cannot write {}: {e}", path.display())))
+}
+
 /// The vector level the CPU backend's wide spans run on ("avx512", "avx2" or "portable").
 #[pyfunction]
 fn lanes() -> &'static str {
@@ -363,5 +375,6 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_bin, m)?)?;
     m.add_function(wrap_pyfunction!(_render_tile, m)?)?;
     m.add_function(wrap_pyfunction!(_encode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(_save_png, m)?)?;
     Ok(())
 }

@@ -9,6 +9,14 @@ class Image(numpy.ndarray):
     slices and arithmetic work as usual (``numpy.asarray(img)`` gives the plain array without
     copying)."""
 
+    def save(self, path):
+        """Write the image to ``path`` as an RGBA8 PNG holding its exact bytes, alpha
+        included, as ``pointillist render`` writes its output: the file appears complete or not
+        at all (an existing file is left untouched on error)."""
+        from . import _native
+
+        _native._save_png(str(path), numpy.ascontiguousarray(self).view(numpy.ndarray))
+
     def _repr_png_(self):
         """The PNG bytes of the image, or ``None`` when the array is no longer an
         ``(h, w, 4)`` uint8 image (a slice of one channel, say) so that the usual text
