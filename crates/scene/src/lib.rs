@@ -31,6 +31,7 @@
 //!   edge; `texture` and `clip_plane` take one table or an array of tables, at the top level and
 //!   in draws.
 
+pub mod case;
 mod error;
 mod parse;
 mod reader;
@@ -46,6 +47,7 @@ use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState
 use pointillist_core::texture::Texture;
 use pointillist_particles::{DrawBuffers, Emitter, ParticleSystem, SystemConfig};
 
+pub use case::{Case, Expect, Others, list_cases};
 pub use error::{Origin, SceneError};
 
 /// The largest render target side a scene may ask for, in pixels.
@@ -289,6 +291,8 @@ pub struct Scene {
     pub emitters: Vec<EmitterDesc>,
     /// The `[animation]` table (its defaults when the file has none).
     pub animation: Animation,
+    /// The `[case]` table of a conformance case: metadata that replaying ignores.
+    pub case: Option<Case>,
 }
 
 /// Reads and parses the scene file at `path`; relative files it names are found from its folder.
@@ -455,6 +459,8 @@ impl Scene {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_case;
 #[cfg(test)]
 mod tests_limits;
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! The walk over the spanned TOML tree that turns a scene file into a [`Scene`].
 
+mod case;
 mod particles;
 
 use std::collections::HashMap;
@@ -47,6 +48,7 @@ const TOP_KEYS: &[&str] = &[
     "draw",
     "emitter",
     "animation",
+    "case",
 ];
 const DRAW_KEYS: &[&str] = &[
     "fvf",
@@ -238,6 +240,10 @@ impl Parser<'_> {
             None => crate::Animation::default(),
             Some(v) => self.animation(v)?,
         };
+        let case = match f.get("case") {
+            None => None,
+            Some(v) => Some(self.case(v)?),
+        };
         Ok(Scene {
             file: self.src.file().to_path_buf(),
             api,
@@ -246,6 +252,7 @@ impl Parser<'_> {
             steps: std::mem::take(&mut self.steps),
             emitters,
             animation,
+            case,
         })
     }
 
