@@ -113,7 +113,10 @@ def test_device_calls_match_the_cli(cli, tmp_path):
         assert got.shape == (64, 96, 4)
         assert np.array_equal(got, want)
     assert len(np.unique(want.reshape(-1, 4), axis=0)) > 30
-    assert dev.take_notices() == ["render state LIGHTING has no effect on points; ignored"]
+    # LIGHTING affects points (SPEC 8): no notice for it; DITHERENABLE still has no effect.
+    assert dev.take_notices() == []
+    dev.set_render_state("DITHERENABLE", True)
+    assert dev.take_notices() == ["render state DITHERENABLE has no effect on points; ignored"]
 
 
 def test_the_fvf_may_be_a_code():
