@@ -6,11 +6,12 @@ use std::path::PathBuf;
 use crate::run::cases_dir;
 
 /// The folders of `cases/`, each with its list of cases in a chapter module.
-const FOLDERS: [&str; 5] = [
+const FOLDERS: [&str; 6] = [
     "2-size",
     "3-clipping",
     "4-rasterization",
     "5-pixels",
+    "6-caps",
     "golden",
 ];
 
