@@ -6,13 +6,14 @@ use std::path::PathBuf;
 use crate::run::cases_dir;
 
 /// The folders of `cases/`, each with its list of cases in a chapter module.
-const FOLDERS: [&str; 6] = [
+const FOLDERS: [&str; 7] = [
     "2-size",
     "3-clipping",
     "4-rasterization",
     "5-pixels",
     "6-caps",
     "golden",
+    "wine",
 ];
 
 #[test]
