@@ -3,6 +3,7 @@
 cases!("3-clipping":
     behind_the_camera_is_dropped,
     behind_the_camera_is_dropped_clipping_off,
+    clip_planes_do_not_cut_pretransformed_points,
     clip_w_zero_or_negative_drops_the_point,
     clip_w_zero_or_negative_drops_the_point_clipping_off,
     clipped_textured_sprite_keeps_its_texture_coordinates,
