@@ -14,7 +14,7 @@ use pointillist_core::caps::{Caps, VertexProcessing};
 use pointillist_core::device::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, TransformType, Viewport,
 };
-use pointillist_core::fvf::Fvf;
+use pointillist_core::draw::DrawSetup;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState};
 use pointillist_core::texture::Texture;
@@ -218,13 +218,9 @@ impl Backend for Recorder {
         Ok(())
     }
 
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
-        self.tolerance = self.tolerance.max(draw_tolerance(state));
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
+        let (state, fvf) = (draw.state, draw.fvf);
+        self.tolerance = self.tolerance.max(draw_tolerance(draw));
         self.draws += 1;
         if let Some(old) = self.written.take() {
             self.write_changes(&old, state);

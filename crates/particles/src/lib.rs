@@ -45,21 +45,21 @@
 //! assert_eq!(buffers.vertices().len(), 200 * pointillist_particles::VERTEX_STRIDE);
 //! ```
 
-pub mod curve;
-pub mod emitter;
-pub mod noise;
+mod curve;
+mod emitter;
+mod noise;
 pub mod presets;
-pub mod rng;
-pub mod system;
+mod rng;
+mod system;
 
-pub use curve::{Curve, CurveError};
+pub use curve::{Curve, CurveError, Keyable};
 pub use emitter::{
     BlendMode, Burst, ConfigError, Emitter, MAX_PARTICLES, Range, Range3, RenderSettings, Shape,
     Turbulence,
 };
-pub use noise::NoiseField;
+pub use noise::{NOISE_PERIOD, NoiseField};
 pub use rng::Rng;
 pub use system::{
-    BLOCK, DrawBuffers, EmitterStats, PARALLEL_MIN, ParticleSystem, SystemConfig, VERTEX_FVF,
-    VERTEX_STRIDE, sort_back_to_front,
+    BLOCK, DrawBuffers, EmitterStats, MAX_TIME_STEP, PARALLEL_MIN, ParticleSystem, SystemConfig,
+    VERTEX_FVF, VERTEX_STRIDE, sort_back_to_front,
 };

@@ -12,38 +12,43 @@
 //! `POINTILLIST_REQUIRE_GPU=1` (CI sets it), which makes a missing adapter a failure.
 //!
 //! Contract:
-//! - [`draw_tolerance`] is the one place that says how close the GPU must be: exact where no
-//!   filtering or blending arithmetic is involved, 1/255 per channel otherwise (SPEC 7).
+//! - [`draw_tolerance`] says how close the GPU must be (core's table, SPEC 7): exact where no
+//!   filtering or rounding blend is involved, 1/255 per channel otherwise.
 //! - A device's tolerance is the largest of its draws' since its last clear, since a pixel
 //!   keeps the difference an earlier draw left in it.
 //! - Depths are compared by value within 0..=1, the range a WebGPU depth buffer holds, with
 //!   subnormal depths flushed to 0 as GPUs do.
+//!
+//! Where a test needs a given tolerance or GPU context, [`check`], [`check_on`] and their
+//! variants run one scene closure on a fresh CPU and a fresh GPU device and compare them.
 
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
-};
-use pointillist_core::fvf::Fvf;
+use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::draw::DrawSetup;
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 
-pub mod parity;
+mod parity;
+
+pub use parity::{
+    AnyBackend, AnyDevice, check, check_desc, check_on, cpu, gpu, run_on, try_check_on,
+};
 
 /// How close the GPU backend's colours must be to the CPU backend's.
 pub use pointillist_core::tolerance::Tolerance;
 
-/// The tolerance table (SPEC 7, [`pointillist_core::tolerance::draw_tolerance`]) for a draw with
-/// `state`. `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an
-/// adapter comes (on lavapipe every golden scene and conformance test is bit for bit).
-pub fn draw_tolerance(state: &DeviceState) -> Tolerance {
+/// The tolerance table (SPEC 7, [`pointillist_core::tolerance::draw_tolerance`]) for `draw`.
+/// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
+/// comes (on lavapipe every golden scene and conformance test is bit for bit).
+pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
     if std::env::var("POINTILLIST_GPU_EXACT").is_ok_and(|v| v == "1") {
         return Tolerance::Exact;
     }
-    pointillist_core::tolerance::draw_tolerance(state)
+    pointillist_core::tolerance::draw_tolerance(draw)
 }
 
 /// Whether the GPU side was skipped already (the message is printed once per test binary).
@@ -281,16 +286,11 @@ impl Backend for DualBackend {
         Ok(())
     }
 
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
-        self.cpu.draw_points(state, fvf, vertices)?;
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
+        self.cpu.draw_points(draw, vertices)?;
         if let Some(g) = &mut self.gpu {
-            g.draw_points(state, fvf, vertices)?;
-            self.tolerance = self.tolerance.max(draw_tolerance(state));
+            g.draw_points(draw, vertices)?;
+            self.tolerance = self.tolerance.max(draw_tolerance(draw));
         }
         Ok(())
     }
