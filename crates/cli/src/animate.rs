@@ -17,7 +17,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use pointillist_core::device::Device;
+use pointillist_core::Device;
 use pointillist_particles::DrawBuffers;
 
 use crate::{AnimateArgs, AnimationFormat};

@@ -7,7 +7,7 @@
 //! bursts, from a point, box, sphere, disc or line), forces move them (gravity, wind through drag,
 //! turbulence), curves change their size and colour over their life, and a [`ParticleSystem`]
 //! writes them as an `XYZ | PSIZE | DIFFUSE` point list to draw with
-//! [`Device::draw_point_list`](pointillist_core::device::Device::draw_point_list) on any backend,
+//! [`Device::draw_point_list`](pointillist_core::Device::draw_point_list) on any backend,
 //! with each emitter's render states.
 //!
 //! The simulation uses a fixed time step and per-particle random numbers derived from
@@ -16,7 +16,7 @@
 //! emitters update in parallel on rayon's thread pool.
 //!
 //! ```
-//! use pointillist_core::device::{DeviceDesc, TransformType};
+//! use pointillist_core::{DeviceDesc, TransformType};
 //! use pointillist_core::math::Mat4;
 //! use pointillist_particles::{Emitter, ParticleSystem, Range, Range3, SystemConfig};
 //!

@@ -27,8 +27,8 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
-use pointillist_core::draw::DrawSetup;
+use pointillist_core::DrawSetup;
+use pointillist_core::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 

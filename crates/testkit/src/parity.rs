@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_gpu::{GpuBackend, GpuContext};
 
 use crate::{Tolerance, compare, gpu_context};

@@ -10,10 +10,6 @@
 use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{
-    DeviceDesc, DeviceError, TransformType, Viewport, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse,
-    XyzRhwPsizeDiffuse,
-};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{
@@ -22,6 +18,10 @@ use pointillist_core::states::{
     TextureAddress, TextureFilter, TextureOp, TextureStageState,
 };
 use pointillist_core::texture::Texture;
+use pointillist_core::{
+    DeviceDesc, DeviceError, TransformType, Viewport, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse,
+    XyzRhwPsizeDiffuse,
+};
 use pointillist_gpu::{ContextOptions, GpuContext};
 use pointillist_testkit::{
     AnyDevice, Tolerance, check, check_desc, check_on, gpu_context, try_check_on,

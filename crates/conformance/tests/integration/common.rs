@@ -4,9 +4,9 @@
 use std::collections::BTreeSet;
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{DeviceDesc, RenderTarget};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Api, RenderState};
+use pointillist_core::{DeviceDesc, RenderTarget};
 
 /// The device every test draws on: the CPU backend and, with an adapter, the GPU backend,
 /// compared at each read of the target (`pointillist_testkit`).

@@ -5,8 +5,8 @@
 //! the C.1 corner probes and the C.2 quadrant grid of every fixed-function part C case, which
 //! the c10, c11, c15, c16 and c17 cases hold exactly).
 
+use pointillist_core::DeviceDesc;
 use pointillist_core::caps::Caps;
-use pointillist_core::device::DeviceDesc;
 use pointillist_core::states::{Api, RenderState};
 
 cases!("wine":
