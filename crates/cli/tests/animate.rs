@@ -225,7 +225,7 @@ fn ctrl_c_leaves_no_partial_file() {
         .unwrap();
     // Wait until the temporary file exists: frames are being written.
     let start = Instant::now();
-    while !dir.listing().iter().any(|n| n.contains(".tmp-")) {
+    while !dir.listing().iter().any(|n| n.ends_with(".tmp")) {
         assert!(
             start.elapsed() < Duration::from_secs(60),
             "no temporary file appeared"

@@ -289,6 +289,9 @@ pub struct Scene {
     pub emitters: Vec<EmitterDesc>,
     /// The `[animation]` table (its defaults when the file has none).
     pub animation: Animation,
+    /// The files the scene was read from: the scene file, then each texture and vertex file it
+    /// names, as paths from the current folder. An output must be none of them.
+    pub inputs: Vec<PathBuf>,
 }
 
 /// Reads and parses the scene file at `path`; relative files it names are found from its folder.

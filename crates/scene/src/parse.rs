@@ -82,6 +82,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
         viewport: None,
         steps: Vec::new(),
         memory: Memory::default(),
+        inputs: vec![file.to_path_buf()],
     };
     p.scene(&root)
 }
@@ -99,6 +100,8 @@ struct Parser<'a> {
     steps: Vec<Step>,
     /// What the render will hold so far, against [`MEMORY_BUDGET`].
     memory: Memory,
+    /// The scene file and every file it names, as read.
+    inputs: Vec<PathBuf>,
 }
 
 /// Bytes a render will hold, by kind (docs/spec/PARTICLES.md, limits).
@@ -246,6 +249,7 @@ impl Parser<'_> {
             steps: std::mem::take(&mut self.steps),
             emitters,
             animation,
+            inputs: std::mem::take(&mut self.inputs),
         })
     }
 
@@ -570,6 +574,7 @@ impl Parser<'_> {
             return Ok(Arc::clone(t));
         }
         let len = check_readable(&self.src, v, path, &file, "texture")?;
+        self.inputs.push(file.clone());
         // The file's bytes are held while it is decoded.
         let before = self.memory;
         self.charge(Charge::Textures, len, v, path, "this texture file")?;
@@ -769,6 +774,7 @@ impl Parser<'_> {
         let name = string(src, v, path)?;
         let file = self.base.join(name);
         let len = check_readable(src, v, path, &file, "vertex")?;
+        self.inputs.push(file.clone());
         let stride = fvf.stride() as u64;
         if len % stride != 0 {
             return Err(src.error(
