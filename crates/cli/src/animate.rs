@@ -241,11 +241,11 @@ impl<'f> Sink<'f> {
                 let delay = (100.0 / fps).round().clamp(1.0, 65535.0) as u16;
                 let played = 100.0 / f32::from(delay);
                 if (played - fps).abs() > fps * 0.01 {
-                    eprintln!(
-                        "warning: {}: a GIF's frame delays are whole hundredths of a second, so \
-                         {fps} fps plays at {played:.2} fps; write .png (APNG) for exact timing",
+                    crate::report::warning(&format!(
+                        "{}: a GIF's frame delays are whole hundredths of a second, so {fps} fps \
+                         plays at {played:.2} fps; write .png (APNG) for exact timing",
                         out.display()
-                    );
+                    ));
                 }
                 Ok(Sink::Gif { encoder, delay })
             }
@@ -407,10 +407,10 @@ fn check_output(
             .map_err(|e| e.to_string())?;
         let after = sequence_path(out, frames);
         if after.exists() {
-            eprintln!(
-                "warning: {} and the frames after it, from an earlier run, are left as they were",
+            crate::report::warning(&format!(
+                "{} and the frames after it, from an earlier run, are left as they were",
                 after.display()
-            );
+            ));
         }
         dests
     };
@@ -426,6 +426,8 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
     if frames == 0 {
         return Err("--frames must be at least 1".into());
     }
+    anim.check_steps(frames)
+        .map_err(|e| format!("{scene_name}: --frames {frames}: {e}"))?;
     let (format, dests) = check_output(args, frames, &scene.inputs)?;
     let mut system = scene.particle_system().map_err(|e| e.to_string())?;
     let backend = crate::backend::create(args.backend)?;
@@ -472,11 +474,11 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
         file.commit().map_err(|e| e.to_string())?;
     }
     for notice in device.take_notices() {
-        eprintln!("warning: {scene_name}: {notice}");
+        crate::report::warning(&format!("{scene_name}: {notice}"));
     }
     println!(
         "wrote {} ({frames} frame{} of {w}x{h} at {} fps, {} particles at the end)",
-        args.output.display(),
+        crate::report::printable(&args.output.display().to_string()),
         if frames == 1 { "" } else { "s" },
         anim.fps,
         system.len()

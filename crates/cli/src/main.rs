@@ -15,6 +15,7 @@ mod bench;
 mod caps;
 mod interrupt;
 mod render;
+mod report;
 mod threads;
 #[cfg(feature = "viewer")]
 mod view;
@@ -367,14 +368,14 @@ fn main() -> ExitCode {
                     ExitCode::from(2)
                 }
                 _ => {
-                    eprintln!("{}", one_line(&err));
+                    eprintln!("{}", report::printable(&one_line(&err)));
                     ExitCode::from(2)
                 }
             };
         }
     };
     if let Err(message) = interrupt::install().and_then(|()| threads::start()) {
-        eprintln!("error: {message}");
+        report::error(&message);
         return ExitCode::FAILURE;
     }
     let result = match &cli.command {
@@ -388,13 +389,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             interrupt::wait_if_ending();
-            // A message is one line by contract; fold any stray line break a library put in.
-            let message: Vec<&str> = message
-                .lines()
-                .map(str::trim)
-                .filter(|l| !l.is_empty())
-                .collect();
-            eprintln!("error: {}", message.join("; "));
+            report::error(&message);
             ExitCode::FAILURE
         }
     }

@@ -42,7 +42,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     dest.write_png(target.width, target.height, &target.to_rgba8())
         .map_err(|e| e.to_string())?;
     for notice in device.take_notices() {
-        eprintln!("warning: {scene_name}: {notice}");
+        crate::report::warning(&format!("{scene_name}: {notice}"));
     }
     let draws = scene.draw_count();
     let what = match particles {
@@ -54,7 +54,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     };
     println!(
         "wrote {} ({}x{}, {what})",
-        args.output.display(),
+        crate::report::printable(&args.output.display().to_string()),
         target.width,
         target.height,
     );
