@@ -1,5 +1,5 @@
 //! Draws one workload on the CPU backend, a warm-up frame and one timed frame, with no report:
-//! the program docs/PERFORMANCE.md counts instructions of with callgrind.
+//! the program whose instructions docs/performance-history.md counts with callgrind.
 //!
 //! `cargo run --release -p pointillist-bench --example one_frame -- w1 100000`
 

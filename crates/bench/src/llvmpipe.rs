@@ -31,8 +31,12 @@ impl Peer {
     /// (`apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri` provides llvmpipe on Debian).
     pub fn new() -> Result<Peer, String> {
         let hint = "(install libegl1 libegl-mesa0 libgl1-mesa-dri)";
+        // SAFETY: loads the system's libEGL; its initialisers run no Rust code and the
+        // instance it returns is kept alive in `Peer` as long as anything calls through it.
         let egl = unsafe { egl::DynamicInstance::<egl::EGL1_5>::load_required() }
             .map_err(|e| format!("cannot load libEGL with EGL 1.5 {hint}: {e}"))?;
+        // SAFETY: the default native display of the surfaceless platform is a valid argument,
+        // and the attribute list ends with ATTRIB_NONE.
         let display = unsafe {
             egl.get_platform_display(
                 PLATFORM_SURFACELESS_MESA,
@@ -72,12 +76,15 @@ impl Peer {
             .map_err(|e| format!("cannot create an OpenGL 3.3 core context: {e}"))?;
         egl.make_current(display, None, None, Some(context))
             .map_err(|e| format!("eglMakeCurrent (surfaceless) failed: {e}"))?;
+        // SAFETY: the OpenGL context is current on this thread (made so just above), and the
+        // loader returns libEGL's entry points for it, or null for a missing one.
         let gl = unsafe {
             glow::Context::from_loader_function(|name| {
                 egl.get_proc_address(name)
                     .map_or(std::ptr::null(), |f| f as *const _)
             })
         };
+        // SAFETY: the context is current; GL_RENDERER is a valid string query.
         let renderer = unsafe { gl.get_parameter_string(glow::RENDERER) };
         Ok(Peer {
             gl,
@@ -95,6 +102,10 @@ impl Peer {
     /// Times `frames` frames of `w` (clear, draw, glFinish) after one warm-up frame.
     pub fn time(&self, w: &Workload, frames: usize) -> Result<Timing, String> {
         let gl = &self.gl;
+        // SAFETY: the context was made current on this thread in `Peer::new` (the bench uses a
+        // `Peer` on the thread that created it); every object used is created in it; the
+        // attribute pointers lie inside one vertex of `w.fvf`'s layout and the draw reads
+        // `w.points` whole vertices, all of them in the buffer uploaded from `w.vertices`.
         unsafe {
             let fbo = gl.create_framebuffer()?;
             gl.bind_framebuffer(glow::FRAMEBUFFER, Some(fbo));
@@ -235,6 +246,8 @@ impl Peer {
             i32::from(w.fvf.is_pretransformed()),
             i32::from(w.texture.is_some())
         );
+        // SAFETY: the context is current on this thread (see `Peer::time`); the shaders and the
+        // program are objects of it.
         unsafe {
             let program = gl.create_program()?;
             let mut shaders = Vec::new();

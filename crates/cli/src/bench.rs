@@ -65,7 +65,7 @@ pub struct BenchArgs {
     fixed_function_blending: bool,
 }
 
-/// Flakes in the snow storm of the particle issue.
+/// Flakes in the snow storm preset.
 const SNOW_FLAKES: usize = 200_000;
 
 /// Runs the benchmark, printing one line per renderer and workload.

@@ -7,12 +7,14 @@
 //! makes it panic.
 //!
 //! This file holds the argument grammar and the dispatch; [`render`], [`animate`], `view` (with
-//! the `viewer` feature), [`caps`] and [`bench`](mod@bench) do the work.
+//! the `viewer` feature), [`caps`], [`bench`](mod@bench) and [`conform`] (`export-calls` and
+//! `conform`) do the work.
 
 mod animate;
 mod backend;
 mod bench;
 mod caps;
+mod conform;
 mod interrupt;
 mod render;
 mod report;
@@ -127,6 +129,109 @@ enum Command {
     /// Time the performance workloads W1-W4, optionally beside Mesa llvmpipe.
     #[command(long_about = bench::LONG_ABOUT)]
     Bench(bench::BenchArgs),
+    /// Write a scene's D3D9 calls as a call stream for a replayer (docs/CONFORMANCE.md).
+    #[command(long_about = EXPORT_LONG_ABOUT, after_help = EXPORT_EXAMPLES)]
+    ExportCalls(ExportCallsArgs),
+    /// Replay scenes on a real Direct3D 9 device and compare its pixels with pointillist's.
+    #[command(long_about = CONFORM_LONG_ABOUT, after_help = CONFORM_EXAMPLES)]
+    Conform(ConformArgs),
+}
+
+/// The long description of `pointillist export-calls --help`.
+const EXPORT_LONG_ABOUT: &str = "\
+Write a scene's D3D9 calls as a call stream: a versioned binary file that the replayer
+(crates/conformance/replayer/replayer.c) executes on a real IDirect3DDevice9. The format is
+specified in docs/CONFORMANCE.md, so that a replayer can be written in any language.
+
+The scene's calls are written in order with their raw values: Clear, SetRenderState,
+SetTextureStageState, SetSamplerState, CreateTexture with every mip level's texels and
+SetTexture, SetTransform, SetViewport, SetClipPlane, SetFVF and DrawPrimitiveUP(D3DPT_POINTLIST)
+with the raw vertex bytes. A particle scene is written at frame 0, or --frame N, as `render`
+draws it.
+
+With one scene file, OUT is the stream. With a folder or several scenes, OUT is a folder that
+receives NAME.calls for each scene and list.txt, the replayer's argument file
+(`replayer OUTDIR @list.txt`).";
+
+/// Examples shown at the end of `pointillist export-calls --help`.
+const EXPORT_EXAMPLES: &str = "\
+Examples:
+  pointillist export-calls scenes/ring.toml -o ring.calls
+  pointillist export-calls scenes/fireworks.toml -o fireworks.calls --frame 60
+  pointillist export-calls crates/conformance/cases -o suite/";
+
+/// The long description of `pointillist conform --help`.
+const CONFORM_LONG_ABOUT: &str = "\
+Replay scenes through a real Direct3D 9 device and compare, pixel by pixel, what it drew with
+what pointillist draws with the caps the device reported (docs/CONFORMANCE.md).
+
+PATH is a scene file or a folder of them. Each scene's calls are exported to REPORT/calls, then
+replayed by one of:
+  --runner wine       the replayer under xvfb-run and Wine (built with x86_64-w64-mingw32-gcc
+                      when it is not built yet, or --replayer EXE)
+  --runner-cmd CMD    any command taking the replayer's arguments OUTDIR @LIST, run in
+                      REPORT/calls
+  --captures DIR      a folder a replayer filled earlier (a Windows machine with real hardware)
+pointillist renders each scene with the device's MaxPointSize, D3DFVFCAPS_PSIZE and
+CLIPPLANESCALEDPOINTS, and compares with SPEC 7's tolerances. REPORT receives report.json,
+index.html and the images.
+
+Exit status: 0 when every case matches or ends as the --expect FILE of known differences says,
+1 when a case does not, 2 when the kit itself cannot run.";
+
+/// Examples shown at the end of `pointillist conform --help`.
+const CONFORM_EXAMPLES: &str = "\
+Examples:
+  pointillist conform crates/conformance/cases --runner wine --report report/ \\
+      --expect crates/conformance/expect/wine.toml
+  pointillist conform scenes/ring.toml --captures windows-captures/ --report report/";
+
+/// Arguments of `pointillist export-calls`.
+#[derive(Debug, Args)]
+pub struct ExportCallsArgs {
+    /// A scene file, or scene files and folders of them.
+    #[arg(value_name = "SCENE", required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// The call stream to write (a folder when several scenes or a folder are given).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// For a scene with particles or an `[animation]`: the frame to write (default 0).
+    #[arg(long, value_name = "N")]
+    pub frame: Option<u32>,
+}
+
+/// Which replayer `--runner` names.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RunnerKind {
+    /// The replayer under Wine's d3d9, in a virtual X display.
+    Wine,
+}
+
+/// Arguments of `pointillist conform`.
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["runner", "runner_cmd", "captures"])))]
+pub struct ConformArgs {
+    /// Scene files and folders of them.
+    #[arg(value_name = "PATH", required = true)]
+    pub paths: Vec<PathBuf>,
+    /// Replay with this runner.
+    #[arg(long, value_enum, ignore_case = true)]
+    pub runner: Option<RunnerKind>,
+    /// Replay with this shell command, given the arguments OUTDIR @LIST.
+    #[arg(long, value_name = "CMD")]
+    pub runner_cmd: Option<String>,
+    /// Compare with what a replayer wrote earlier into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub captures: Option<PathBuf>,
+    /// With --runner wine: the replayer to run instead of building one.
+    #[arg(long, value_name = "EXE", requires = "runner")]
+    pub replayer: Option<PathBuf>,
+    /// The report folder.
+    #[arg(long, value_name = "DIR")]
+    pub report: PathBuf,
+    /// The known differences of the device (a TOML expectations file).
+    #[arg(long, value_name = "FILE")]
+    pub expect: Option<PathBuf>,
 }
 
 /// The long description of `pointillist animate --help`.
@@ -384,6 +489,8 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         Command::Animate(args) => animate::run(args),
         Command::View(args) => view(args),
+        Command::ExportCalls(args) => conform::run_export(args),
+        Command::Conform(args) => return conform::run_conform(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

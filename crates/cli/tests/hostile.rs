@@ -67,10 +67,34 @@ fn slow_scene() -> String {
     )
 }
 
-/// Sends `signal` to `child`, then requires it to end within a second with exit status 130
+/// A child process killed when dropped, so that a failing test leaves no render running.
+struct Running(Option<Child>);
+
+impl Running {
+    fn spawn(cmd: &mut Command) -> Running {
+        Running(Some(
+            cmd.stdout(Stdio::null())
+                .stderr(Stdio::piped())
+                .spawn()
+                .unwrap(),
+        ))
+    }
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        if let Some(mut child) = self.0.take() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+/// Sends `signal` to the child, then requires it to end within a second with exit status 130
 /// and the one line `interrupted: no output written`.
 #[cfg(unix)]
-fn interrupt(child: Child, signal: &str) {
+fn interrupt(mut running: Running, signal: &str) {
+    let child = running.0.take().unwrap();
     let status = Command::new("kill")
         .args([&format!("-{signal}"), &child.id().to_string()])
         .status()
@@ -114,12 +138,8 @@ fn sigint_sigterm_and_sighup_end_an_animation_within_a_second_leaving_nothing() 
         let out = dir.path(out);
         fs::write(&out, b"previous").unwrap();
         let known = ["slow.toml", "a.gif", "b.png", "c.gif"];
-        let child = command()
-            .args(["animate", path_arg(&scene), "-o", path_arg(&out)])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+        let child =
+            Running::spawn(command().args(["animate", path_arg(&scene), "-o", path_arg(&out)]));
         wait_for_a_temporary_file(&dir, &known);
         interrupt(child, signal);
         assert_eq!(strangers(&dir, &known), Vec::<String>::new(), "SIG{signal}");
@@ -135,12 +155,8 @@ fn a_long_draw_is_interrupted_within_a_second() {
     let out = dir.path("out.png");
     fs::write(&out, b"previous").unwrap();
     for signal in ["INT", "TERM"] {
-        let child = command()
-            .args(["render", path_arg(&scene), "-o", path_arg(&out)])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+        let child =
+            Running::spawn(command().args(["render", path_arg(&scene), "-o", path_arg(&out)]));
         // Parsing takes a few milliseconds; the draw takes tens of seconds.
         std::thread::sleep(Duration::from_millis(500));
         interrupt(child, signal);
@@ -165,17 +181,12 @@ fn an_interrupted_png_sequence_writes_no_frame() {
         fs::write(dir.path(&format!("f_{k}.png")), b"old").unwrap();
     }
     let known = ["slow.toml", "f_0.png", "f_1.png", "f_2.png"];
-    let child = command()
-        .args([
-            "animate",
-            path_arg(&scene),
-            "-o",
-            path_arg(&dir.path("f_%d.png")),
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = Running::spawn(command().args([
+        "animate",
+        path_arg(&scene),
+        "-o",
+        path_arg(&dir.path("f_%d.png")),
+    ]));
     // Wait until several frames are done.
     let start = Instant::now();
     while strangers(&dir, &known).len() < 5 {

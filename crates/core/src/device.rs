@@ -1,64 +1,31 @@
 //! The device: D3D9-shaped state setters over a backend that draws.
 //!
 //! [`Device`] holds every state a D3D9 program sets ([`DeviceState`]) and validates calls the
-//! way the D3D9 runtime does; a [`Backend`] turns draws into pixels. Backends never see an
-//! invalid state: viewports lie inside the target, stage indices are in range, vertex buffers
-//! hold whole vertices.
+//! way the D3D9 runtime does; each draw is resolved once ([`DrawSetup`]) and a [`Backend`] turns
+//! it into pixels. Backends never see an invalid state: viewports lie inside the target, stage
+//! indices are in range, vertex buffers hold whole vertices.
 
 use std::fmt;
 use std::sync::Arc;
 
 use crate::caps::Caps;
+use crate::draw::DrawSetup;
 use crate::fvf::{Fvf, FvfError};
 use crate::math::Mat4;
 use crate::pixel::is_unsupported_op;
+pub use crate::state::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES, Viewport};
 use crate::states::{
     Api, Blend, BlendOp, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureOp,
     TextureStageState, ZBufferType,
 };
 use crate::texture::Texture;
 
-/// Texture stages and samplers of the fixed-function pipeline.
-pub const MAX_STAGES: usize = 8;
-/// User clip planes (D3DMAXUSERCLIPPLANES).
-pub const MAX_CLIP_PLANES: usize = 6;
 /// Largest render target side pointillist accepts.
 pub const MAX_TARGET_SIZE: u32 = 16384;
 /// Most vertices one draw accepts (2^24, as many as the largest particle emitter holds, docs/
 /// SCENE.md): a bigger DrawPrimitiveUP is refused with [`DeviceError::TooManyVertices`] before
 /// the backend sees it, like D3D9 refuses more than D3DCAPS9.MaxPrimitiveCount points.
 pub const MAX_DRAW_VERTICES: usize = 1 << 24;
-
-/// D3DVIEWPORT9: the target rectangle and depth range points are mapped to (SPEC 1).
-#[derive(Copy, Clone, Debug, PartialEq)]
-pub struct Viewport {
-    /// Left column.
-    pub x: u32,
-    /// Top row.
-    pub y: u32,
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels; `Vh` of the point-scale formula (SPEC 2.2).
-    pub height: u32,
-    /// Depth of clip-space z = 0.
-    pub min_z: f32,
-    /// Depth of clip-space z = w.
-    pub max_z: f32,
-}
-
-impl Viewport {
-    /// The whole of a `width` x `height` target, depth 0..1.
-    pub fn full(width: u32, height: u32) -> Viewport {
-        Viewport {
-            x: 0,
-            y: 0,
-            width,
-            height,
-            min_z: 0.0,
-            max_z: 1.0,
-        }
-    }
-}
 
 /// D3DTRANSFORMSTATETYPE for the three fixed-function transforms.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -211,90 +178,6 @@ impl From<FvfError> for DeviceError {
     }
 }
 
-/// Every state a draw depends on, as a D3D9 device holds it.
-#[derive(Clone, Debug)]
-pub struct DeviceState {
-    /// Which default table applies.
-    pub api: Api,
-    /// The device's caps (as reported; the pipeline applies [`Caps::effective`]).
-    pub caps: Caps,
-    /// Target width.
-    pub target_width: u32,
-    /// Target height.
-    pub target_height: u32,
-    /// D3DRS_* values, raw.
-    pub render_states: [u32; RenderState::COUNT],
-    /// D3DTSS_* values per stage, raw.
-    pub stage_states: [[u32; TextureStageState::COUNT]; MAX_STAGES],
-    /// D3DSAMP_* values per sampler, raw.
-    pub sampler_states: [[u32; SamplerState::COUNT]; MAX_STAGES],
-    /// Bound textures.
-    pub textures: [Option<Arc<Texture>>; MAX_STAGES],
-    /// D3DTS_WORLD.
-    pub world: Mat4,
-    /// D3DTS_VIEW.
-    pub view: Mat4,
-    /// D3DTS_PROJECTION.
-    pub projection: Mat4,
-    /// The viewport.
-    pub viewport: Viewport,
-    /// User clip planes in world space.
-    pub clip_planes: [[f32; 4]; MAX_CLIP_PLANES],
-}
-
-impl DeviceState {
-    /// The state of a freshly created device (SPEC 2.6 defaults).
-    pub fn new(api: Api, caps: Caps, width: u32, height: u32) -> DeviceState {
-        let mut render_states = [0u32; RenderState::COUNT];
-        // POINTSIZE_MAX defaults to the max_point_size the pipeline applies (SPEC 2.6): with
-        // software vertex processing, the emulator's limit, not the device's (SPEC 6).
-        let max_point_size = caps.effective().max_point_size;
-        for &s in RenderState::all() {
-            render_states[s.0 as usize] = s.default_value(api, max_point_size);
-        }
-        let mut stage_states = [[0u32; TextureStageState::COUNT]; MAX_STAGES];
-        let mut sampler_states = [[0u32; SamplerState::COUNT]; MAX_STAGES];
-        for stage in 0..MAX_STAGES {
-            for &s in TextureStageState::all() {
-                stage_states[stage][s.0 as usize] = s.default_value(stage);
-            }
-            for &s in SamplerState::all() {
-                sampler_states[stage][s.0 as usize] = s.default_value();
-            }
-        }
-        DeviceState {
-            api,
-            caps,
-            target_width: width,
-            target_height: height,
-            render_states,
-            stage_states,
-            sampler_states,
-            textures: Default::default(),
-            world: Mat4::IDENTITY,
-            view: Mat4::IDENTITY,
-            projection: Mat4::IDENTITY,
-            viewport: Viewport::full(width, height),
-            clip_planes: [[0.0; 4]; MAX_CLIP_PLANES],
-        }
-    }
-
-    /// A render state's raw value.
-    #[inline]
-    pub fn render_state(&self, s: RenderState) -> u32 {
-        self.render_states.get(s.0 as usize).copied().unwrap_or(0)
-    }
-
-    /// A texture-stage state's raw value.
-    #[inline]
-    pub fn stage_state(&self, stage: usize, s: TextureStageState) -> u32 {
-        self.stage_states[stage]
-            .get(s.0 as usize)
-            .copied()
-            .unwrap_or(0)
-    }
-}
-
 /// The render target read back: `width * height` D3DCOLORs and depths, rows top to bottom.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RenderTarget {
@@ -346,13 +229,8 @@ pub trait Backend {
     ) -> Result<(), DeviceError>;
     /// Clears the whole target (D3DCLEAR_TARGET | D3DCLEAR_ZBUFFER).
     fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError>;
-    /// Draws `vertices` (whole vertices of format `fvf`) as a point list with `state`.
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError>;
+    /// Draws `vertices` (whole vertices of format `draw.fvf`, at least one) as a point list.
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError>;
     /// Reads the target back.
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError>;
 }
@@ -372,13 +250,8 @@ impl<B: Backend + ?Sized> Backend for Box<B> {
     fn clear(&mut self, color: u32, depth: f32) -> Result<(), DeviceError> {
         (**self).clear(color, depth)
     }
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
-        (**self).draw_points(state, fvf, vertices)
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
+        (**self).draw_points(draw, vertices)
     }
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
         (**self).read_target()
@@ -628,7 +501,8 @@ impl<B: Backend> Device<B> {
         if vertices.is_empty() {
             return Ok(());
         }
-        self.backend.draw_points(&self.state, fvf, vertices)
+        self.backend
+            .draw_points(&DrawSetup::new(&self.state, fvf), vertices)
     }
 
     /// DrawPrimitiveUP(D3DPT_POINTLIST) from typed vertices.
@@ -758,7 +632,7 @@ mod tests {
         fn clear(&mut self, _: u32, _: f32) -> Result<(), DeviceError> {
             Ok(())
         }
-        fn draw_points(&mut self, _: &DeviceState, _: Fvf, _: &[u8]) -> Result<(), DeviceError> {
+        fn draw_points(&mut self, _: &DrawSetup<'_>, _: &[u8]) -> Result<(), DeviceError> {
             self.draws += 1;
             Ok(())
         }

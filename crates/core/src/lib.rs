@@ -10,9 +10,12 @@
 pub mod caps;
 pub mod color;
 pub mod device;
+pub mod draw;
 pub mod fvf;
 pub mod math;
 pub mod pixel;
 pub mod point;
+pub mod state;
 pub mod states;
 pub mod texture;
+pub mod tolerance;

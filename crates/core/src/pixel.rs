@@ -5,7 +5,7 @@
 //! here are the reference the tests compare every backend against.
 
 use crate::color::{Rgba, pack, unpack};
-use crate::device::{DeviceState, MAX_STAGES};
+use crate::state::{DeviceState, MAX_STAGES};
 use crate::states::{
     Blend, BlendOp, Cmp, RenderState, TA_ALPHAREPLICATE, TA_COMPLEMENT, TA_CONSTANT, TA_CURRENT,
     TA_DIFFUSE, TA_SELECTMASK, TA_SPECULAR, TA_TEMP, TA_TEXTURE, TA_TFACTOR, TextureOp,
@@ -113,16 +113,55 @@ pub struct BlendSetup {
     pub factor: Rgba,
 }
 
-impl BlendSetup {
-    /// ONE, ONE, ADD on every channel: the additive blending of particle systems.
-    pub fn is_additive(&self) -> bool {
-        let one = |b| b == Blend::One;
-        one(self.src)
-            && one(self.dst)
-            && one(self.src_alpha)
-            && one(self.dst_alpha)
-            && self.op == BlendOp::Add
-            && self.op_alpha == BlendOp::Add
+/// What kind of blend a draw does (SPEC 5.5), decided once per draw ([`BlendClass::of`]): the
+/// one definition of which blends a backend may take a shortcut for, and of which blends round
+/// (SPEC 7).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum BlendClass {
+    /// ALPHABLENDENABLE false: the source replaces the target.
+    Replace,
+    /// ONE, ONE, ADD on every channel, the blending of additive particles: a saturating add of
+    /// the 8-bit values.
+    Additive,
+    /// SRCALPHA, INVSRCALPHA, ADD on every channel, the blending of translucent sprites:
+    /// `s * a + d * (1 - a)`.
+    SourceAlpha,
+    /// Any other blend whose operations use only ZERO and ONE factors (MIN and MAX use none).
+    Whole,
+    /// Any other blend: an operation uses a factor that can be fractional.
+    Fractional,
+}
+
+impl BlendClass {
+    /// The class of the blend `blend` (`None`: blending disabled).
+    pub fn of(blend: Option<&BlendSetup>) -> BlendClass {
+        let Some(b) = blend else {
+            return BlendClass::Replace;
+        };
+        let every = |src: Blend, dst: Blend, op: BlendOp| {
+            [(b.src, b.dst, b.op), (b.src_alpha, b.dst_alpha, b.op_alpha)] == [(src, dst, op); 2]
+        };
+        let whole = |f: Blend| matches!(f, Blend::Zero | Blend::One);
+        let uses_factors = |op: BlendOp| !matches!(op, BlendOp::Min | BlendOp::Max);
+        // BOTHSRCALPHA and BOTHINVSRCALPHA, which replace the destination factor, are not whole.
+        let fractional = (uses_factors(b.op) && !(whole(b.src) && whole(b.dst)))
+            || (uses_factors(b.op_alpha) && !(whole(b.src_alpha) && whole(b.dst_alpha)));
+        if every(Blend::One, Blend::One, BlendOp::Add) {
+            BlendClass::Additive
+        } else if every(Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Add) {
+            BlendClass::SourceAlpha
+        } else if fractional {
+            BlendClass::Fractional
+        } else {
+            BlendClass::Whole
+        }
+    }
+
+    /// True when the blend multiplies by a fractional factor, so its result is rounded to
+    /// 8 bits: a blender that rounds on its own terms can be 1/255 off (SPEC 7). The other
+    /// blends are exact on any blender.
+    pub fn rounds(self) -> bool {
+        matches!(self, BlendClass::SourceAlpha | BlendClass::Fractional)
     }
 }
 
@@ -283,6 +322,11 @@ impl PixelSetup {
             write_mask,
             sprite: rs(RenderState::POINTSPRITEENABLE) != 0,
         }
+    }
+
+    /// The class of [`PixelSetup::blend`].
+    pub fn blend_class(&self) -> BlendClass {
+        BlendClass::of(self.blend.as_ref())
     }
 
     /// True when some stage samples a texture.
@@ -543,6 +587,97 @@ mod tests {
     }
 
     #[test]
+    fn spec_5_5_blend_classes() {
+        use Blend::*;
+        use BlendClass::*;
+        let class = |b: BlendSetup| BlendClass::of(Some(&b));
+        assert_eq!(BlendClass::of(None), Replace);
+        assert_eq!(class(blend_with(One, One, BlendOp::Add)), Additive);
+        assert_eq!(
+            class(blend_with(SrcAlpha, InvSrcAlpha, BlendOp::Add)),
+            SourceAlpha
+        );
+        assert_eq!(
+            class(blend_with(BothSrcAlpha, Zero, BlendOp::Add)),
+            Fractional
+        );
+        assert_eq!(class(blend_with(One, Zero, BlendOp::Add)), Whole);
+        assert_eq!(class(blend_with(Zero, One, BlendOp::RevSubtract)), Whole);
+        assert_eq!(class(blend_with(One, One, BlendOp::Subtract)), Whole);
+        // MIN and MAX use no factor.
+        assert_eq!(class(blend_with(SrcAlpha, DestColor, BlendOp::Max)), Whole);
+        assert_eq!(
+            class(blend_with(SrcAlpha, InvSrcAlpha, BlendOp::Min)),
+            Whole
+        );
+        assert_eq!(
+            class(blend_with(BlendFactor, Zero, BlendOp::Add)),
+            Fractional
+        );
+        assert_eq!(class(blend_with(One, DestColor, BlendOp::Add)), Fractional);
+        // SEPARATEALPHABLENDENABLE: the alpha component counts too.
+        let mut b = blend_with(One, One, BlendOp::Add);
+        b.dst_alpha = SrcAlpha;
+        assert_eq!(class(b), Fractional);
+        b.op_alpha = BlendOp::Max;
+        assert_eq!(class(b), Whole);
+        let mut b = blend_with(SrcAlpha, InvSrcAlpha, BlendOp::Add);
+        b.op_alpha = BlendOp::Subtract;
+        assert_eq!(class(b), Fractional);
+        for (c, rounds) in [
+            (Replace, false),
+            (Additive, false),
+            (SourceAlpha, true),
+            (Whole, false),
+            (Fractional, true),
+        ] {
+            assert_eq!(c.rounds(), rounds, "{c:?}");
+        }
+    }
+
+    /// What [`BlendClass::rounds`] promises: a blend of any other class is the 8-bit
+    /// integer arithmetic, so every blender gives the same bytes.
+    #[test]
+    fn spec_5_5_blends_that_do_not_round_are_integer_arithmetic() {
+        let factors = [Blend::Zero, Blend::One, Blend::SrcAlpha, Blend::DestColor];
+        let mut seen = [false; 2];
+        for &op in BlendOp::ALL {
+            for (src, dst) in factors.iter().flat_map(|&s| factors.map(|d| (s, d))) {
+                let b = blend_with(src, dst, op);
+                let class = BlendClass::of(Some(&b));
+                if class.rounds() {
+                    continue;
+                }
+                seen[usize::from(class == BlendClass::Whole)] = true;
+                let f = |f: Blend| i32::from(f == Blend::One);
+                for k in 0..2000u32 {
+                    let (s, d) = (k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ k);
+                    let want = (0..4).fold(0u32, |acc, c| {
+                        let (s, d) = (
+                            ((s >> (8 * c)) & 0xFF) as i32,
+                            ((d >> (8 * c)) & 0xFF) as i32,
+                        );
+                        let v = match op {
+                            BlendOp::Add => s * f(src) + d * f(dst),
+                            BlendOp::Subtract => s * f(src) - d * f(dst),
+                            BlendOp::RevSubtract => d * f(dst) - s * f(src),
+                            BlendOp::Min => s.min(d),
+                            BlendOp::Max => s.max(d),
+                        };
+                        acc | ((v.clamp(0, 255) as u32) << (8 * c))
+                    });
+                    assert_eq!(
+                        blend(&b, s, d),
+                        want,
+                        "{op:?} {src:?} {dst:?} {s:#x} {d:#x}"
+                    );
+                }
+            }
+        }
+        assert_eq!(seen, [true, true], "additive and whole blends both checked");
+    }
+
+    #[test]
     fn spec_5_1_untextured_point_shows_diffuse() {
         let (_, p) = setup();
         assert_eq!(p.stage_count, 1);
@@ -569,7 +704,7 @@ mod tests {
     #[test]
     fn spec_5_5_additive_saturates() {
         let b = blend_with(Blend::One, Blend::One, BlendOp::Add);
-        assert!(b.is_additive());
+        assert_eq!(BlendClass::of(Some(&b)), BlendClass::Additive);
         assert_eq!(blend(&b, 0xFF80_8080, 0xFF80_0010), 0xFFFF_8090);
     }
 

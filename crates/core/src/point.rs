@@ -6,9 +6,9 @@
 //! sprite coordinates).
 
 use crate::caps::Caps;
-use crate::device::{DeviceState, Viewport};
 use crate::fvf::{Fvf, Layout, read_f32, read_u32};
 use crate::math::Mat4;
+use crate::state::{DeviceState, Viewport};
 use crate::states::RenderState;
 
 /// POINTSCALE_A, B, C and the viewport height `Vh` (SPEC 2.2).

@@ -27,10 +27,8 @@ mod stage;
 #[cfg(test)]
 mod test_rng;
 
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
-};
-use pointillist_core::fvf::Fvf;
+use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::draw::DrawSetup;
 
 pub use pointillist_core::device;
 
@@ -101,21 +99,9 @@ impl Backend for CpuBackend {
         Ok(())
     }
 
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
         let clear = self.pending_clear.take();
-        raster::draw(
-            &mut self.target,
-            &mut self.bins,
-            clear,
-            state,
-            fvf,
-            vertices,
-        );
+        raster::draw(&mut self.target, &mut self.bins, clear, draw, vertices);
         Ok(())
     }
 

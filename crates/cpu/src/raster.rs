@@ -25,15 +25,16 @@
 //! [`Lanes::N`] pixels at a time on the widest vectors the CPU has ([`mod@crate::lanes`]).
 
 use pointillist_core::color::{Rgba, pack, unpack};
-use pointillist_core::device::{DeviceState, MAX_STAGES, RenderTarget};
-use pointillist_core::fvf::Fvf;
+use pointillist_core::device::{MAX_STAGES, RenderTarget};
+use pointillist_core::draw::DrawSetup;
 use pointillist_core::pixel::{
-    BlendSetup, PixelSetup, ShadeInputs, alpha_test_passes, blend, compare, write_masked,
+    BlendClass, BlendSetup, PixelSetup, ShadeInputs, alpha_test_passes, blend, compare,
+    write_masked,
 };
 use pointillist_core::point::{
     PixelPlane, PixelRect, PointSetup, ScreenPoint, sprite_coord, sprite_lod,
 };
-use pointillist_core::states::{Blend, BlendOp, TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
+use pointillist_core::states::{TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
 use pointillist_core::texture::{
     Level, LodSampler, SamplerDesc, Texture, linear_texel, point_texel,
 };
@@ -180,15 +181,6 @@ impl Blender for SourceAlpha {
             |c| l.round_unit(l.add(l.mul(s[c], s[3]), l.mul(d[c], fd)))
         ))
     }
-}
-
-fn is_source_alpha(b: &BlendSetup) -> bool {
-    b.src == Blend::SrcAlpha
-        && b.dst == Blend::InvSrcAlpha
-        && b.src_alpha == Blend::SrcAlpha
-        && b.dst_alpha == Blend::InvSrcAlpha
-        && b.op == BlendOp::Add
-        && b.op_alpha == BlendOp::Add
 }
 
 /// Any other factors and operations: the core reference.
@@ -346,6 +338,7 @@ struct DrawContext<'a> {
     flat: bool,
     squares: SquareStage,
     pixel: PixelSetup,
+    blend: BlendClass,
     shading: Shading,
     textures: [Option<StageTexture<'a>>; MAX_STAGES],
     vertices: &'a [u8],
@@ -503,11 +496,10 @@ pub(crate) fn draw(
     target: &mut RenderTarget,
     bins: &mut Bins,
     clear: Option<Clear>,
-    state: &DeviceState,
-    fvf: Fvf,
+    draw: &DrawSetup<'_>,
     vertices: &[u8],
 ) {
-    draw_context(&context(state, fvf, vertices), target, bins, clear);
+    draw_context(&context(draw, vertices), target, bins, clear);
 }
 
 /// Writes `clear` to the whole target, on every thread (a 1920x1080 target is 16 MB).
@@ -530,17 +522,17 @@ fn draw_context(
     bins: &mut Bins,
     clear: Option<Clear>,
 ) {
-    match ctx.pixel.blend {
-        None => draw_with(ctx, &Replace, target, bins, clear),
-        Some(b) if b.is_additive() => draw_with(ctx, &Additive, target, bins, clear),
-        Some(b) if is_source_alpha(&b) => draw_with(ctx, &SourceAlpha, target, bins, clear),
-        Some(b) => draw_with(ctx, &General(b), target, bins, clear),
+    match (ctx.pixel.blend, ctx.blend) {
+        (None, _) => draw_with(ctx, &Replace, target, bins, clear),
+        (Some(_), BlendClass::Additive) => draw_with(ctx, &Additive, target, bins, clear),
+        (Some(_), BlendClass::SourceAlpha) => draw_with(ctx, &SourceAlpha, target, bins, clear),
+        (Some(b), _) => draw_with(ctx, &General(b), target, bins, clear),
     }
 }
 
-/// Resolves the states of a draw (SPEC 5.1 to 5.6) once.
-fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawContext<'a> {
-    let pixel = PixelSetup::new(state);
+/// What the fills need of `draw`, once.
+fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
+    let (state, pixel) = (draw.state, draw.pixel.clone());
     let textures = std::array::from_fn(|i| {
         let stage = &pixel.stages[i];
         if i >= pixel.stage_count || !stage.samples {
@@ -558,7 +550,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
             }
         })
     });
-    let points = PointSetup::new(state, fvf);
+    let points = draw.points.clone();
     let spans = Some(LanesLevel::detect()).filter(|l| !matches!(l, LanesLevel::Portable));
     let mut ctx = DrawContext {
         binned: false,
@@ -567,6 +559,7 @@ fn context<'a>(state: &'a DeviceState, fvf: Fvf, vertices: &'a [u8]) -> DrawCont
         points,
         shading: shading(&pixel),
         pixel,
+        blend: draw.blend,
         textures,
         vertices,
         spans,
@@ -1531,16 +1524,18 @@ fn depth_test(ctx: &DrawContext, band: &mut Band, at: usize, z: f32) -> bool {
 mod tests {
     use super::*;
     use crate::test_rng::Rng;
-    use pointillist_core::device::DeviceDesc;
+    use pointillist_core::device::{DeviceDesc, DeviceState};
+    use pointillist_core::fvf::Fvf;
     use pointillist_core::states::{
-        Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureStageState,
+        Blend, BlendOp, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter,
+        TextureStageState,
     };
     use std::sync::Arc;
 
     /// The general path: the core cascade per pixel and the core blender, one point after
     /// another on the calling thread.
     fn draw_general(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertices: &[u8]) {
-        let mut ctx = context(state, fvf, vertices);
+        let mut ctx = context(&DrawSetup::new(state, fvf), vertices);
         ctx.shading = Shading::General;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(1)
@@ -1636,7 +1631,7 @@ mod tests {
             let levels = LanesLevel::available().into_iter().map(|l| (Some(l), true));
             for (lanes, binned) in levels.chain([(None, true), (None, false)]) {
                 let mut fast = start.clone();
-                let mut ctx = context(state, fvf, &vertices);
+                let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
                 (ctx.spans, ctx.binned) = (lanes, binned);
                 if let Some(t) = &mut ctx.textures[0] {
                     t.unpack(lanes.is_some());
@@ -1733,7 +1728,7 @@ mod tests {
             let state = device.state();
             let drawn = |threads: usize, binned: bool| {
                 let mut target = RenderTarget::new(w, h, 0xFF10_2030, 1.0);
-                let mut ctx = context(state, fvf, &vertices);
+                let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
                 ctx.binned = binned;
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -1792,7 +1787,7 @@ mod tests {
     #[test]
     fn source_alpha_fast_path_matches_the_reference_blend() {
         let setup = setup(Blend::SrcAlpha, Blend::InvSrcAlpha);
-        assert!(is_source_alpha(&setup));
+        assert_eq!(BlendClass::of(Some(&setup)), BlendClass::SourceAlpha);
         for a in 0..=255u32 {
             for d in (0..=255u32).step_by(3) {
                 let src = (a << 24) | ((255 - a) << 16) | (d << 8) | (a ^ d);

@@ -5,10 +5,11 @@
 //! - A GPU's fixed-function blender rounds each blend to 8 bits on its own terms (lavapipe
 //!   rounds the two products separately, so one SRCALPHA/INVSRCALPHA blend can be 1/255 off),
 //!   and every later blend of the same pixel carries the difference on, so piles of translucent
-//!   sprites drift further (the README's "Differences"). [`needs_exact`] picks the draws where
-//!   that can happen; [`draw`] renders them with core's arithmetic instead (the per-point stage,
-//!   the cascade, alpha test, depth test and write, `pixel::blend`, the write mask), so they
-//!   match the CPU backend as exactly as the other draws do.
+//!   sprites drift further (the README's "Differences"). That can happen where the blend
+//!   rounds (core's `BlendClass::rounds`); [`draw`] renders those draws with core's arithmetic
+//!   instead (the per-point stage, the cascade, alpha test, depth test and write,
+//!   `pixel::blend`, the write mask), so they match the CPU backend as exactly as the other
+//!   draws do.
 //! - The draw runs between copies of the target: colour and depth are copied into storage
 //!   buffers, `cs_points` writes one record per point, `cs_tiles` walks every 16x16 tile's
 //!   points in vertex order, and the buffers are copied back (depth through a full-screen pass
@@ -17,10 +18,7 @@
 
 use std::sync::Arc;
 
-use pointillist_core::device::DeviceState;
-use pointillist_core::fvf::Fvf;
-use pointillist_core::pixel::BlendSetup;
-use pointillist_core::states::{Blend, BlendOp};
+use pointillist_core::draw::DrawSetup;
 
 use crate::context::{GpuContext, GpuError, storage_entry, uniform_entry, whole_buffers};
 use crate::pipeline::TargetDesc;
@@ -55,15 +53,6 @@ fn fs(@builtin(position) pos: vec4f) -> @builtin(frag_depth) f32 {
 pub(crate) fn fits(ctx: &GpuContext, width: u32, height: u32) -> bool {
     u64::from(crate::copy_pitch(width)) * u64::from(height)
         <= ctx.limits().max_storage_buffer_binding_size
-}
-
-/// True when blending `b` in fixed function could round differently from core's `blend`: a
-/// factor other than ZERO or ONE in a component whose operation uses the factors.
-pub(crate) fn needs_exact(b: &BlendSetup) -> bool {
-    let whole = |f: Blend| matches!(f, Blend::Zero | Blend::One);
-    let uses_factors = |op: BlendOp| !matches!(op, BlendOp::Min | BlendOp::Max);
-    (uses_factors(b.op) && !(whole(b.src) && whole(b.dst)))
-        || (uses_factors(b.op_alpha) && !(whole(b.src_alpha) && whole(b.dst_alpha)))
 }
 
 /// The layouts and the depth writer of the exact path, made once per context.
@@ -237,16 +226,16 @@ pub(crate) struct TargetTextures<'a> {
     pub depth_view: &'a wgpu::TextureView,
 }
 
-/// Draws `vertices` with `state` through the exact path, in as many batches as the records
-/// buffer needs, each a submission of its own.
+/// Draws `draw` of `vertices` through the exact path, in as many batches as the records buffer
+/// needs, each a submission of its own.
 pub(crate) fn draw(
     renderer: &mut PointRenderer,
     exact: &mut Option<ExactTarget>,
     target: &TargetTextures<'_>,
-    state: &DeviceState,
-    fvf: Fvf,
+    draw: &DrawSetup<'_>,
     vertices: &[u8],
 ) -> Result<(), GpuError> {
+    let fvf = draw.fvf;
     let ctx = Arc::clone(renderer.context());
     let (width, height) = (target.desc.width, target.desc.height);
     let ex = match exact {
@@ -262,7 +251,7 @@ pub(crate) fn draw(
         .min(u64::from(limits.max_compute_workgroups_per_dimension) * u64::from(POINTS_PER_GROUP))
         .max(1) as usize;
     for part in vertices.chunks(batch * stride) {
-        let Some(res) = renderer.upload(state, fvf, part, &target.desc)? else {
+        let Some(res) = renderer.upload(draw, part, &target.desc)? else {
             continue;
         };
         let pipelines = ctx.exact_pipelines(&res.key)?;
@@ -359,49 +348,4 @@ pub(crate) fn draw(
         drop(res);
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn setup(src: Blend, dst: Blend, op: BlendOp) -> BlendSetup {
-        BlendSetup {
-            src,
-            dst,
-            op,
-            src_alpha: src,
-            dst_alpha: dst,
-            op_alpha: op,
-            factor: [1.0; 4],
-        }
-    }
-
-    #[test]
-    fn spec_5_5_fractional_factors_need_the_exact_path() {
-        assert!(!needs_exact(&setup(Blend::One, Blend::One, BlendOp::Add)));
-        assert!(!needs_exact(&setup(
-            Blend::Zero,
-            Blend::One,
-            BlendOp::RevSubtract
-        )));
-        assert!(!needs_exact(&setup(
-            Blend::SrcAlpha,
-            Blend::DestColor,
-            BlendOp::Max
-        )));
-        assert!(needs_exact(&setup(
-            Blend::SrcAlpha,
-            Blend::InvSrcAlpha,
-            BlendOp::Add
-        )));
-        assert!(needs_exact(&setup(
-            Blend::BlendFactor,
-            Blend::Zero,
-            BlendOp::Add
-        )));
-        let mut b = setup(Blend::One, Blend::One, BlendOp::Add);
-        b.dst_alpha = Blend::SrcAlpha;
-        assert!(needs_exact(&b));
-    }
 }

@@ -48,11 +48,8 @@ mod uniforms;
 use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
-};
-use pointillist_core::fvf::Fvf;
-use pointillist_core::pixel::PixelSetup;
+use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::draw::DrawSetup;
 
 pub use context::{AdapterSummary, ContextOptions, GpuContext, GpuError};
 pub use pipeline::{ClipPlaneMethod, TargetDesc};
@@ -341,20 +338,13 @@ impl Backend for GpuBackend {
         Ok(self.clear_target(color, depth)?)
     }
 
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
         let t = self.target.as_ref().ok_or_else(|| {
             GpuError::Unsupported("draw before the render target was created".into())
         })?;
         let ctx = Arc::clone(self.renderer.context());
         let exact = !ctx.options().fixed_function_blending
-            && PixelSetup::new(state)
-                .blend
-                .is_some_and(|b| exact::needs_exact(&b))
+            && draw.blend.rounds()
             && exact::fits(&ctx, t.desc.width, t.desc.height);
         if exact {
             let textures = exact::TargetTextures {
@@ -367,14 +357,13 @@ impl Backend for GpuBackend {
                 &mut self.renderer,
                 &mut self.exact,
                 &textures,
-                state,
-                fvf,
+                draw,
                 vertices,
             )?;
         } else {
             let (desc, color, depth) = (t.desc, t.color_view.clone(), t.depth_view.clone());
             self.renderer
-                .render(state, fvf, vertices, &desc, &color, Some(&depth))?;
+                .render(draw, vertices, &desc, &color, Some(&depth))?;
         }
         Ok(())
     }

@@ -13,10 +13,9 @@
 //! - Keys are built from core's resolved [`PointSetup`] and [`PixelSetup`]; the D3D enums are
 //!   mapped to wgpu state here and nowhere else.
 
-use pointillist_core::device::DeviceState;
+use pointillist_core::draw::DrawSetup;
 use pointillist_core::fvf::Fvf;
-use pointillist_core::pixel::{BlendSetup, PixelSetup, StageSetup, dest_factor};
-use pointillist_core::point::PointSetup;
+use pointillist_core::pixel::{BlendSetup, StageSetup, dest_factor};
 use pointillist_core::states::{Blend, BlendOp, Cmp, TextureFilter, TextureOp};
 use pointillist_core::texture::{SamplerDesc, is_linear};
 
@@ -152,24 +151,24 @@ pub(crate) struct PipelineKey {
 }
 
 impl PipelineKey {
-    /// The key of a draw with `fvf` in `state`, resolved through core.
+    /// The key of `draw` into attachments described by `target`.
     pub(crate) fn new(
-        state: &DeviceState,
-        fvf: Fvf,
-        points: &PointSetup,
-        pixel: &PixelSetup,
+        draw: &DrawSetup<'_>,
         target: &TargetDesc,
         plane_method: ClipPlaneMethod,
     ) -> PipelineKey {
+        let (points, pixel) = (&draw.points, &draw.pixel);
         let stages = pixel.stages[..pixel.stage_count]
             .iter()
             .enumerate()
-            .map(|(i, st)| StageKey::new(st, &SamplerDesc::from_states(&state.sampler_states[i])))
+            .map(|(i, st)| {
+                StageKey::new(st, &SamplerDesc::from_states(&draw.state.sampler_states[i]))
+            })
             .collect();
         PipelineKey {
             color_format: target.color_format,
             depth_format: target.depth_format,
-            fvf,
+            fvf: draw.fvf,
             vertex_size: points.uses_vertex_size(),
             scale: points.scale().is_some(),
             single_pixel: points.is_single_pixel(),

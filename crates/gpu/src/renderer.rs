@@ -2,8 +2,8 @@
 //! pointillist's own target or into an engine's texture or render pass.
 //!
 //! Contract:
-//! - [`PointRenderer::prepare`] resolves a draw through core (`PointSetup`, `PixelSetup`),
-//!   uploads its vertices, uniforms and textures and returns a [`PreparedDraw`];
+//! - [`PointRenderer::prepare`] takes a draw resolved by core (`DrawSetup`), uploads its
+//!   vertices, uniforms and textures and returns a [`PreparedDraw`];
 //!   [`PreparedDraw::draw`] records it into any render pass whose attachments match the
 //!   [`TargetDesc`] it was prepared for. Keep the `PreparedDraw` alive until the command buffer
 //!   holding it has been submitted: its upload slot is reused only after it is dropped.
@@ -17,10 +17,9 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::{Arc, Weak};
 
-use pointillist_core::device::{DeviceState, MAX_STAGES};
+use pointillist_core::device::MAX_STAGES;
+use pointillist_core::draw::DrawSetup;
 use pointillist_core::fvf::Fvf;
-use pointillist_core::pixel::PixelSetup;
-use pointillist_core::point::PointSetup;
 use pointillist_core::texture::Texture;
 
 use crate::context::{GpuContext, GpuError};
@@ -238,17 +237,16 @@ impl PointRenderer {
         Ok(view)
     }
 
-    /// Resolves, uploads and prepares one draw of `vertices` (whole vertices of `fvf`, at most
-    /// [`PointRenderer::max_points`]) with `state`, for attachments described by `target`.
-    /// `None` when nothing can be drawn (no vertices).
+    /// Uploads and prepares `draw` of `vertices` (whole vertices of `draw.fvf`, at most
+    /// [`PointRenderer::max_points`]), for attachments described by `target`. `None` when
+    /// nothing can be drawn (no vertices).
     pub fn prepare(
         &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
+        draw: &DrawSetup<'_>,
         vertices: &[u8],
         target: &TargetDesc,
     ) -> Result<Option<PreparedDraw>, GpuError> {
-        let Some(res) = self.upload(state, fvf, vertices, target)? else {
+        let Some(res) = self.upload(draw, vertices, target)? else {
             return Ok(None);
         };
         let pipeline = self.ctx.pipeline(&res.key)?;
@@ -264,15 +262,15 @@ impl PointRenderer {
         }))
     }
 
-    /// Resolves the draw through core and uploads its vertices, uniforms and textures: what
-    /// every pipeline of the draw binds.
+    /// Uploads the vertices, uniforms and textures of `draw`: what every pipeline of the draw
+    /// binds.
     pub(crate) fn upload(
         &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
+        draw: &DrawSetup<'_>,
         vertices: &[u8],
         target: &TargetDesc,
     ) -> Result<Option<DrawResources>, GpuError> {
+        let (state, fvf, pixel) = (draw.state, draw.fvf, &draw.pixel);
         self.textures.retain(|_, c| c.source.strong_count() > 0);
         let stride = fvf.stride();
         let points = vertices.len() / stride;
@@ -286,16 +284,7 @@ impl PointRenderer {
             )));
         }
         let points = points as u32;
-        let point_setup = PointSetup::new(state, fvf);
-        let pixel = PixelSetup::new(state);
-        let key = PipelineKey::new(
-            state,
-            fvf,
-            &point_setup,
-            &pixel,
-            target,
-            self.ctx.adapter().clip_planes,
-        );
+        let key = PipelineKey::new(draw, target, self.ctx.adapter().clip_planes);
         let mut views = Vec::with_capacity(MAX_STAGES);
         for i in 0..MAX_STAGES {
             let sampled = i < pixel.stage_count && pixel.stages[i].samples;
@@ -307,14 +296,7 @@ impl PointRenderer {
         let index = self.index_buffer(points)?;
         let used = (points as usize * stride) as u64;
         let slot = self.slot(round_up(used, 4))?;
-        let uniforms = Uniforms::new(
-            state,
-            fvf,
-            &point_setup,
-            &pixel,
-            target.width,
-            target.height,
-        );
+        let uniforms = Uniforms::new(draw, target.width, target.height);
         let ctx = Arc::clone(&self.ctx);
         let s = &self.slots[slot];
         let bind_group = ctx.scoped(|| {
@@ -362,21 +344,20 @@ impl PointRenderer {
         }))
     }
 
-    /// Draws `vertices` with `state` into `color` (and `depth`), described by `target`, in a
-    /// pass of its own that loads and stores the attachments, and submits it. Draws larger than
+    /// Draws `draw` of `vertices` into `color` (and `depth`), described by `target`, in a pass
+    /// of its own that loads and stores the attachments, and submits it. Draws larger than
     /// [`PointRenderer::max_points`] are split, in vertex order.
     pub fn render(
         &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
+        draw: &DrawSetup<'_>,
         vertices: &[u8],
         target: &TargetDesc,
         color: &wgpu::TextureView,
         depth: Option<&wgpu::TextureView>,
     ) -> Result<(), GpuError> {
-        let batch = self.max_points(fvf).max(1) as usize * fvf.stride();
+        let batch = self.max_points(draw.fvf).max(1) as usize * draw.fvf.stride();
         for part in vertices.chunks(batch) {
-            let Some(draw) = self.prepare(state, fvf, part, target)? else {
+            let Some(prepared) = self.prepare(draw, part, target)? else {
                 continue;
             };
             let ctx = Arc::clone(&self.ctx);
@@ -403,7 +384,7 @@ impl PointRenderer {
                         occlusion_query_set: None,
                         multiview_mask: None,
                     });
-                    draw.draw(&mut pass);
+                    prepared.draw(&mut pass);
                 }
                 ctx.queue().submit([encoder.finish()]);
             })?;

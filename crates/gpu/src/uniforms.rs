@@ -8,11 +8,9 @@
 //! compute per point (`2 / viewport width`, the pixel-plane terms, ...) are computed here, on the
 //! CPU, with core's expressions, so they are correctly rounded and never contracted.
 
-use pointillist_core::device::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES};
-use pointillist_core::fvf::Fvf;
+use pointillist_core::device::{MAX_CLIP_PLANES, MAX_STAGES};
+use pointillist_core::draw::DrawSetup;
 use pointillist_core::math::Mat4;
-use pointillist_core::pixel::PixelSetup;
-use pointillist_core::point::PointSetup;
 use pointillist_core::texture::SamplerDesc;
 
 /// 16-byte slots in the block: three matrices, nine single slots, three per-stage arrays, the
@@ -42,15 +40,9 @@ impl Uniforms {
         }
     }
 
-    /// The block of a draw with `fvf` in `state` into a `width` x `height` target.
-    pub(crate) fn new(
-        state: &DeviceState,
-        fvf: Fvf,
-        points: &PointSetup,
-        pixel: &PixelSetup,
-        width: u32,
-        height: u32,
-    ) -> Uniforms {
+    /// The block of `draw` into a `width` x `height` target.
+    pub(crate) fn new(draw: &DrawSetup<'_>, width: u32, height: u32) -> Uniforms {
+        let (points, pixel) = (&draw.points, &draw.pixel);
         let mut u = Uniforms {
             words: Vec::with_capacity(SLOTS * 4),
         };
@@ -81,9 +73,9 @@ impl Uniforms {
         for stage in &pixel.stages {
             u.f4(stage.constant);
         }
-        let layout = fvf.layout();
+        let layout = draw.fvf.layout();
         let samplers: [SamplerDesc; MAX_STAGES] =
-            std::array::from_fn(|i| SamplerDesc::from_states(&state.sampler_states[i]));
+            std::array::from_fn(|i| SamplerDesc::from_states(&draw.state.sampler_states[i]));
         for (i, s) in samplers.iter().enumerate() {
             let set = pixel.stages[i].texcoord_set;
             let (offset, count) = layout

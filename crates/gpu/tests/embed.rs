@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
 use pointillist_core::device::{DeviceDesc, DeviceState, RenderTarget, Vertex, XyzRhwPsizeDiffuse};
+use pointillist_core::draw::DrawSetup;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Api, Blend, RenderState};
 use pointillist_core::texture::Texture;
@@ -190,7 +191,11 @@ fn renders_into_an_engine_render_pass() {
     let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
     let mut renderer = PointRenderer::new(Arc::clone(&ctx));
     let draw = renderer
-        .prepare(&state(), fvf(), &vertices(), &engine_desc())
+        .prepare(
+            &DrawSetup::new(&state(), fvf()),
+            &vertices(),
+            &engine_desc(),
+        )
         .expect("prepare")
         .expect("something to draw");
     // The engine's own pass: it clears to the device's default clear colour, then the points.
@@ -220,12 +225,18 @@ fn renders_into_an_engine_texture_and_reuses_buffers() {
         engine_pass(&mut encoder, &view);
         ctx.queue().submit([encoder.finish()]);
         renderer
-            .render(&state(), fvf(), &vertices(), &desc, &view, None)
+            .render(
+                &DrawSetup::new(&state(), fvf()),
+                &vertices(),
+                &desc,
+                &view,
+                None,
+            )
             .expect("render");
     }
     let pipelines = ctx.pipeline_count();
     renderer
-        .render(&state(), fvf(), &[], &desc, &view, None)
+        .render(&DrawSetup::new(&state(), fvf()), &[], &desc, &view, None)
         .expect("an empty draw is fine");
     assert_eq!(
         ctx.pipeline_count(),
@@ -247,7 +258,7 @@ fn errors_are_device_errors_not_panics() {
         ..engine_desc()
     };
     let e = renderer
-        .prepare(&state(), fvf(), &vertices(), &desc)
+        .prepare(&DrawSetup::new(&state(), fvf()), &vertices(), &desc)
         .expect_err("an integer colour target cannot blend");
     let message = pointillist_core::device::DeviceError::from(e).to_string();
     assert!(message.contains("GPU error"), "{message}");
@@ -258,7 +269,7 @@ fn errors_are_device_errors_not_panics() {
     };
     assert!(
         renderer
-            .prepare(&state(), fvf(), &vertices(), &desc)
+            .prepare(&DrawSetup::new(&state(), fvf()), &vertices(), &desc)
             .is_ok()
     );
 }

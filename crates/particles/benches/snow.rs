@@ -1,8 +1,7 @@
-//! The snow storm of issue "Particle systems, animations and a live viewer": 200,000 flakes
-//! simulated per second, and simulated and drawn with the CPU backend at 1920x1080 (target: 60
-//! frames per second or better on 2 cores). Run with `cargo bench -p pointillist-particles`.
-//! Each iteration is one frame: one fixed step of 1/60 s (and for the drawn case a clear and
-//! the draw); the throughput is flakes per second.
+//! The snow storm preset: 200,000 flakes simulated per second, and simulated and drawn with the
+//! CPU backend at 1920x1080 (target: 60 frames per second or better on 2 cores). Run with
+//! `cargo bench -p pointillist-particles`. Each iteration is one frame: one fixed step of 1/60 s
+//! (and for the drawn case a clear and the draw); the throughput is flakes per second.
 
 use std::hint::black_box;
 use std::sync::Arc;

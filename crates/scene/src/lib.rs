@@ -31,6 +31,7 @@
 //!   edge; `texture` and `clip_plane` take one table or an array of tables, at the top level and
 //!   in draws.
 
+pub mod case;
 mod error;
 mod parse;
 mod reader;
@@ -46,6 +47,7 @@ use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState
 use pointillist_core::texture::Texture;
 use pointillist_particles::{DrawBuffers, Emitter, ParticleSystem, SystemConfig};
 
+pub use case::{Case, Expect, Others, list_cases};
 pub use error::{Origin, SceneError, printable};
 
 /// The largest render target side a scene may ask for, in pixels.
@@ -404,6 +406,8 @@ pub struct Scene {
     /// The files the scene was read from: the scene file, then each texture and vertex file it
     /// names, as paths from the current folder. An output must be none of them.
     pub inputs: Vec<PathBuf>,
+    /// The `[case]` table of a conformance case: metadata that replaying ignores.
+    pub case: Option<Case>,
 }
 
 /// Reads and parses the scene file at `path`; relative files it names are found from its folder.
@@ -626,6 +630,8 @@ impl Scene {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_case;
 #[cfg(test)]
 mod tests_hostile;
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! The walk over the spanned TOML tree that turns a scene file into a [`Scene`].
 
+mod case;
 mod particles;
 
 use std::collections::HashMap;
@@ -48,6 +49,7 @@ const TOP_KEYS: &[&str] = &[
     "draw",
     "emitter",
     "animation",
+    "case",
 ];
 const DRAW_KEYS: &[&str] = &[
     "fvf",
@@ -296,6 +298,10 @@ impl Parser<'_> {
             None => crate::Animation::default(),
             Some(v) => self.animation(v)?,
         };
+        let case = match f.get("case") {
+            None => None,
+            Some(v) => Some(self.case(v)?),
+        };
         Ok(Scene {
             file: self.src.file().to_path_buf(),
             api,
@@ -305,6 +311,7 @@ impl Parser<'_> {
             emitters,
             animation,
             inputs: std::mem::take(&mut self.inputs),
+            case,
         })
     }
 

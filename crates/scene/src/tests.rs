@@ -494,7 +494,7 @@ fn error_unknown_key() {
             .to_string(),
         "s.toml:2:1: colour: unknown key (expected one of: format, api, target, \
          caps, viewport, transform, states, stage, texture, clip_plane, draw, emitter, \
-         animation)"
+         animation, case)"
     );
 }
 

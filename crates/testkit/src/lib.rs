@@ -24,78 +24,24 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget,
-};
-use pointillist_core::fvf::Fvf;
-use pointillist_core::pixel::PixelSetup;
-use pointillist_core::states::Blend;
-use pointillist_core::texture::{SamplerDesc, is_linear};
+use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::draw::DrawSetup;
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 
 pub mod parity;
 
 /// How close the GPU backend's colours must be to the CPU backend's.
-#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Tolerance {
-    /// Bit for bit.
-    Exact,
-    /// At most this many 1/255 steps per channel.
-    Steps(u8),
-}
+pub use pointillist_core::tolerance::Tolerance;
 
-impl Tolerance {
-    /// The largest channel difference allowed.
-    pub fn steps(self) -> u8 {
-        match self {
-            Tolerance::Exact => 0,
-            Tolerance::Steps(s) => s,
-        }
-    }
-}
-
-/// True for blend factors whose value is 0 or 1 in every channel: blending with them involves
-/// no rounding.
-fn is_whole(b: Blend) -> bool {
-    matches!(b, Blend::Zero | Blend::One)
-}
-
-/// The tolerance table (SPEC 7): how close the GPU must be for a draw with `state`.
-///
-/// | the draw                                                            | tolerance  |
-/// | ------------------------------------------------------------------- | ---------- |
-/// | no blending, or blend factors ZERO / ONE only (any BLENDOP)         | exact      |
-/// | point sampling (MIN, MAG POINT or NONE; MIPFILTER NONE or POINT)    | exact      |
-/// | texture-stage arithmetic, alpha test, depth test, write masks       | exact      |
-/// | any other blend factor (SRCALPHA, DESTCOLOR, BLENDFACTOR, ...)      | 1/255      |
-/// | a sampling stage filtering linearly (MIN/MAG, or MIPFILTER LINEAR)  | 1/255      |
-///
+/// The tolerance table (SPEC 7, [`pointillist_core::tolerance::draw_tolerance`]) for `draw`.
 /// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
 /// comes (on lavapipe every golden scene and conformance test is bit for bit).
-pub fn draw_tolerance(state: &DeviceState) -> Tolerance {
+pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
     if std::env::var("POINTILLIST_GPU_EXACT").is_ok_and(|v| v == "1") {
         return Tolerance::Exact;
     }
-    let pixel = PixelSetup::new(state);
-    let blends = pixel.blend.is_some_and(|b| {
-        ![b.src, b.dst, b.src_alpha, b.dst_alpha]
-            .into_iter()
-            .all(is_whole)
-    });
-    let filters = pixel.stages[..pixel.stage_count]
-        .iter()
-        .enumerate()
-        .filter(|(_, st)| st.samples)
-        .any(|(i, _)| {
-            let s = SamplerDesc::from_states(&state.sampler_states[i]);
-            is_linear(s.mag) || is_linear(s.min) || is_linear(s.mip)
-        });
-    if blends || filters {
-        Tolerance::Steps(1)
-    } else {
-        Tolerance::Exact
-    }
+    pointillist_core::tolerance::draw_tolerance(draw)
 }
 
 /// Whether the GPU side was skipped already (the message is printed once per test binary).
@@ -333,16 +279,11 @@ impl Backend for DualBackend {
         Ok(())
     }
 
-    fn draw_points(
-        &mut self,
-        state: &DeviceState,
-        fvf: Fvf,
-        vertices: &[u8],
-    ) -> Result<(), DeviceError> {
-        self.cpu.draw_points(state, fvf, vertices)?;
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
+        self.cpu.draw_points(draw, vertices)?;
         if let Some(g) = &mut self.gpu {
-            g.draw_points(state, fvf, vertices)?;
-            self.tolerance = self.tolerance.max(draw_tolerance(state));
+            g.draw_points(draw, vertices)?;
+            self.tolerance = self.tolerance.max(draw_tolerance(draw));
         }
         Ok(())
     }
@@ -375,38 +316,6 @@ pub fn device_named(desc: DeviceDesc, name: &str) -> Result<DualDevice, DeviceEr
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pointillist_core::caps::Caps;
-    use pointillist_core::states::{Api, RenderState, SamplerState, TextureFilter};
-
-    fn state() -> DeviceState {
-        DeviceState::new(Api::D3d9, Caps::reference(), 4, 4)
-    }
-
-    #[test]
-    fn spec_7_tolerance_table() {
-        let mut s = state();
-        assert_eq!(draw_tolerance(&s), Tolerance::Exact);
-        s.render_states[RenderState::ALPHABLENDENABLE.0 as usize] = 1;
-        for (src, dst, tol) in [
-            (Blend::One, Blend::One, Tolerance::Exact),
-            (Blend::One, Blend::Zero, Tolerance::Exact),
-            (Blend::Zero, Blend::One, Tolerance::Exact),
-            (Blend::SrcAlpha, Blend::InvSrcAlpha, Tolerance::Steps(1)),
-            (Blend::One, Blend::DestColor, Tolerance::Steps(1)),
-            (Blend::BlendFactor, Blend::Zero, Tolerance::Steps(1)),
-        ] {
-            s.render_states[RenderState::SRCBLEND.0 as usize] = src as u32;
-            s.render_states[RenderState::DESTBLEND.0 as usize] = dst as u32;
-            assert_eq!(draw_tolerance(&s), tol, "{src:?} {dst:?}");
-        }
-        let mut s = state();
-        s.textures[0] = Some(Arc::new(
-            pointillist_core::texture::Texture::from_argb(1, 1, vec![0]).expect("texture"),
-        ));
-        assert_eq!(draw_tolerance(&s), Tolerance::Exact, "point sampling");
-        s.sampler_states[0][SamplerState::MAGFILTER.0 as usize] = TextureFilter::Linear as u32;
-        assert_eq!(draw_tolerance(&s), Tolerance::Steps(1), "bilinear");
-    }
 
     #[test]
     fn compare_reports_and_writes_images() {

@@ -974,6 +974,14 @@ fn spec_5_6_color_write_enable() {
 
 /// 200 overlapping translucent sprites, some depth-tested, in one draw.
 fn pile_scene(d: &mut AnyDevice) -> Result<(), DeviceError> {
+    d.set_render_state(RenderState::ALPHABLENDENABLE, true);
+    d.set_render_state(RenderState::SRCBLEND, Blend::SrcAlpha);
+    d.set_render_state(RenderState::DESTBLEND, Blend::InvSrcAlpha);
+    pile_scene_draws(d)
+}
+
+/// The draws of [`pile_scene`] with the blend states already set.
+fn pile_scene_draws(d: &mut AnyDevice) -> Result<(), DeviceError> {
     let mut r = Rng(99);
     let pts: Vec<XyzRhwPsizeDiffuse> = (0..200)
         .map(|_| XyzRhwPsizeDiffuse {
@@ -987,9 +995,6 @@ fn pile_scene(d: &mut AnyDevice) -> Result<(), DeviceError> {
             diffuse: r.color(),
         })
         .collect();
-    d.set_render_state(RenderState::ALPHABLENDENABLE, true);
-    d.set_render_state(RenderState::SRCBLEND, Blend::SrcAlpha);
-    d.set_render_state(RenderState::DESTBLEND, Blend::InvSrcAlpha);
     d.set_render_state(RenderState::ZENABLE, 0u32);
     d.draw_vertices(&pts[..100])?;
     d.set_render_state(RenderState::ZENABLE, 1u32);
@@ -1045,6 +1050,30 @@ fn spec_5_5_fixed_function_blending_is_within_a_step_per_blend() {
         Tolerance::Steps(3),
         &pile_scene,
     );
+    // Blends that do not round (core's `BlendClass::rounds`: MIN and MAX, which use no
+    // factor, and ZERO / ONE factors) are exact in fixed function too, piled up.
+    for (src, dst, op) in [
+        (Blend::SrcAlpha, Blend::InvSrcAlpha, BlendOp::Min),
+        (Blend::DestColor, Blend::BlendFactor, BlendOp::Max),
+        (Blend::One, Blend::One, BlendOp::RevSubtract),
+        (Blend::One, Blend::Zero, BlendOp::Add),
+    ] {
+        check_on(
+            &ctx,
+            &format!("spec_5_5_fixed_function_whole_{}_{}", src.name(), op.name()),
+            DeviceDesc::new(64, 64),
+            Tolerance::Exact,
+            &|d| {
+                d.clear(0x8060_A0C0, 1.0)?;
+                d.set_render_state(RenderState::ALPHABLENDENABLE, true);
+                d.set_render_state(RenderState::SRCBLEND, src);
+                d.set_render_state(RenderState::DESTBLEND, dst);
+                d.set_render_state(RenderState::BLENDOP, op);
+                d.set_render_state(RenderState::BLENDFACTOR, 0x40FF_8020u32);
+                pile_scene_draws(d)
+            },
+        );
+    }
 }
 
 #[test]

@@ -3,12 +3,10 @@
 //! (b) the size formula agrees with an f64 evaluation, alone and end to end;
 //! (c) no state or vertex value makes a draw fail, panic, or write a non-finite depth.
 
-mod common;
-
 use std::collections::BTreeSet;
 use std::sync::Arc;
 
-use common::*;
+use crate::common::*;
 use pointillist_core::caps::Caps;
 use pointillist_core::device::{DeviceDesc, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;

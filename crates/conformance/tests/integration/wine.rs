@@ -10,11 +10,9 @@
 //! x, y to pixel x, y, LIGHTING FALSE, z = 0.1, and the default depth test against a depth
 //! buffer cleared to 1.0.
 
-mod common;
-
 use std::sync::Arc;
 
-use common::*;
+use crate::common::*;
 use pointillist_core::caps::Caps;
 use pointillist_core::device::{DeviceDesc, RenderTarget, TransformType};
 use pointillist_core::states::{Api, RenderState, TA_CURRENT, TA_TEXTURE, TextureOp};

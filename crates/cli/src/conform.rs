@@ -1,0 +1,105 @@
+//! `pointillist export-calls` and `pointillist conform`: the conformance kit
+//! (`pointillist-conformance`, docs/CONFORMANCE.md) on the command line.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use pointillist_conformance::runner::Runner;
+use pointillist_conformance::{Options, conform, export, find_cases};
+
+use crate::{ConformArgs, ExportCallsArgs};
+
+/// Exit status of `conform` when a case ends otherwise than expected.
+const UNEXPECTED: u8 = 1;
+/// Exit status of `conform` when the kit itself cannot run.
+const KIT_FAILED: u8 = 2;
+
+/// Writes `bytes` to `path` through a temporary file renamed over it.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".partial");
+    std::fs::write(&tmp, bytes)
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            format!("cannot write {}: {e}", path.display())
+        })
+}
+
+/// Exports one scene's calls.
+fn export_one(scene: &Path, frame: Option<u32>) -> Result<Vec<u8>, String> {
+    let scene = pointillist_scene::load(scene).map_err(|e| e.to_string())?;
+    Ok(export::export(&scene, scene.caps, frame)?.stream)
+}
+
+/// Runs `pointillist export-calls`: one scene to the file OUT, or scene files and folders to
+/// the folder OUT (`NAME.calls` each and `list.txt`, the replayer's argument file).
+pub fn run_export(args: &ExportCallsArgs) -> Result<(), String> {
+    if let [scene] = args.scenes.as_slice()
+        && !scene.is_dir()
+    {
+        let bytes = export_one(scene, args.frame)?;
+        write_atomic(&args.output, &bytes)?;
+        println!("wrote {} ({} bytes)", args.output.display(), bytes.len());
+        return Ok(());
+    }
+    let cases = find_cases(&args.scenes)?;
+    std::fs::create_dir_all(&args.output)
+        .map_err(|e| format!("cannot create {}: {e}", args.output.display()))?;
+    let mut list = String::new();
+    for case in &cases {
+        let bytes = export_one(&case.scene, args.frame)?;
+        write_atomic(&args.output.join(format!("{}.calls", case.name)), &bytes)?;
+        list.push_str(&format!("{}.calls\n", case.name));
+    }
+    write_atomic(&args.output.join("list.txt"), list.as_bytes())?;
+    println!(
+        "wrote {} call streams and list.txt to {}",
+        cases.len(),
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// Runs `pointillist conform` and returns its exit status: 0 when every case ends as expected,
+/// 1 when one does not, 2 when the kit cannot run.
+pub fn run_conform(args: &ConformArgs) -> ExitCode {
+    let runner = if let Some(cmd) = &args.runner_cmd {
+        Runner::Command(cmd.clone())
+    } else if let Some(dir) = &args.captures {
+        Runner::Captures(dir.clone())
+    } else {
+        Runner::Wine(args.replayer.clone())
+    };
+    let opts = Options {
+        paths: args.paths.clone(),
+        runner,
+        report: args.report.clone(),
+        expect: args.expect.clone(),
+    };
+    let summary = match conform(&opts) {
+        Ok(summary) => summary,
+        Err(e) => {
+            eprintln!("error: {}", e.lines().next().unwrap_or(""));
+            return ExitCode::from(KIT_FAILED);
+        }
+    };
+    for w in &summary.warnings {
+        eprintln!("warning: {w}");
+    }
+    for (case, why) in &summary.unexpected {
+        eprintln!("{case}: {why}");
+    }
+    let [m, d, e] = summary.counts;
+    println!(
+        "{} cases: {m} match, {d} differ, {e} errors; {} unexpected; report: {}",
+        summary.cases,
+        summary.unexpected.len(),
+        args.report.join("index.html").display()
+    );
+    if summary.unexpected.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(UNEXPECTED)
+    }
+}

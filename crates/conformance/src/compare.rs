@@ -1,0 +1,131 @@
+//! Comparing pointillist's image with the device's (SPEC 7's tolerances), and the magnified
+//! difference image the report shows.
+
+use pointillist_core::tolerance::Tolerance;
+
+use crate::runner::Image;
+
+/// How two images of one case differ.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Comparison {
+    /// Pixels with a channel further apart than the tolerance.
+    pub pixels_differing: u64,
+    /// The largest difference of one channel over the whole image, in 1/255 steps.
+    pub max_channel_difference: u8,
+    /// The first pixel beyond the tolerance, with pointillist's and the device's RGBA there.
+    pub first: Option<(u32, u32, [u8; 4], [u8; 4])>,
+    /// The magnified difference image.
+    pub diff: Image,
+    /// How many times the difference image is magnified.
+    pub scale: u32,
+}
+
+/// The magnification that shows a `width` x `height` image at about 256 pixels across its
+/// larger side: 1 to 16.
+pub fn scale_for(width: u32, height: u32) -> u32 {
+    (256 / width.max(height).max(1)).clamp(1, 16)
+}
+
+/// Compares `ours` (pointillist) with `theirs` (the device), same size, channel by channel
+/// (alpha included). The difference image is magnified by [`scale_for`]: a pixel that is equal
+/// shows pointillist's colour at a quarter of its brightness, one within the tolerance dark
+/// yellow, one beyond it red, brighter the larger the difference.
+pub fn compare(ours: &Image, theirs: &Image, tolerance: Tolerance) -> Comparison {
+    let (w, h) = (ours.width, ours.height);
+    let scale = scale_for(w, h);
+    let limit = tolerance.steps();
+    let mut pixels_differing = 0;
+    let mut max_channel_difference = 0;
+    let mut first = None;
+    let mut marks = Vec::with_capacity(w as usize * h as usize);
+    for (i, (a, b)) in ours
+        .rgba
+        .chunks_exact(4)
+        .zip(theirs.rgba.chunks_exact(4))
+        .enumerate()
+    {
+        let d = (0..4).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+        max_channel_difference = max_channel_difference.max(d);
+        let mark = if d == 0 {
+            [a[0] / 4, a[1] / 4, a[2] / 4, 255]
+        } else if d <= limit {
+            [128, 128, 0, 255]
+        } else {
+            pixels_differing += 1;
+            if first.is_none() {
+                let (x, y) = (i as u32 % w, i as u32 / w);
+                first = Some((x, y, [a[0], a[1], a[2], a[3]], [b[0], b[1], b[2], b[3]]));
+            }
+            [128 + d / 2, 0, 0, 255]
+        };
+        marks.push(mark);
+    }
+    let (dw, dh) = (w * scale, h * scale);
+    let mut rgba = Vec::with_capacity(dw as usize * dh as usize * 4);
+    for y in 0..dh {
+        for x in 0..dw {
+            rgba.extend_from_slice(&marks[(y / scale * w + x / scale) as usize]);
+        }
+    }
+    Comparison {
+        pixels_differing,
+        max_channel_difference,
+        first,
+        diff: Image {
+            width: dw,
+            height: dh,
+            rgba,
+        },
+        scale,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(w: u32, h: u32, px: &[[u8; 4]]) -> Image {
+        Image {
+            width: w,
+            height: h,
+            rgba: px.concat(),
+        }
+    }
+
+    #[test]
+    fn counts_pixels_beyond_the_tolerance_and_the_largest_difference() {
+        let a = image(
+            2,
+            2,
+            &[[0, 0, 0, 255], [8, 8, 8, 255], [1, 2, 3, 4], [9, 9, 9, 9]],
+        );
+        let b = image(
+            2,
+            2,
+            &[[0, 0, 0, 255], [9, 8, 8, 255], [1, 2, 3, 40], [9, 9, 9, 9]],
+        );
+        let exact = compare(&a, &b, Tolerance::Exact);
+        assert_eq!(exact.pixels_differing, 2);
+        assert_eq!(exact.max_channel_difference, 36, "alpha counts");
+        assert_eq!(exact.first, Some((1, 0, [8, 8, 8, 255], [9, 8, 8, 255])));
+        let one = compare(&a, &b, Tolerance::Steps(1));
+        assert_eq!(one.pixels_differing, 1);
+        assert_eq!(one.first.map(|f| (f.0, f.1)), Some((0, 1)));
+        // 2x2 is shown 16 times larger; the pixel within the tolerance is dark yellow, the
+        // one beyond it red.
+        assert_eq!((one.scale, one.diff.width, one.diff.height), (16, 32, 32));
+        let at = |x: usize, y: usize| &one.diff.rgba[(y * 32 + x) * 4..][..4];
+        assert_eq!(at(31, 0), [128, 128, 0, 255]);
+        assert_eq!(at(0, 31), [146, 0, 0, 255]);
+        assert_eq!(at(15, 15), [0, 0, 0, 255]);
+        assert_eq!(at(16, 16), [2, 2, 2, 255]);
+    }
+
+    #[test]
+    fn magnification_keeps_large_images_as_they_are() {
+        assert_eq!(scale_for(1, 1), 16);
+        assert_eq!(scale_for(64, 16), 4);
+        assert_eq!(scale_for(100, 30), 2);
+        assert_eq!(scale_for(640, 480), 1);
+    }
+}

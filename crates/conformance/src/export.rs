@@ -1,0 +1,358 @@
+//! A scene's calls as a call stream ([`crate::calls`]): what `pointillist export-calls` writes
+//! and what the kit hands to a replayer.
+//!
+//! The scene's own calls are written literally, in order, with their raw values: the clear,
+//! the top-level state, each draw's changes and the draw. The stream is for a D3D9 device, so a
+//! D3D8 scene starts with the render states whose D3D8 default differs (SPEC 2.6). A particle
+//! scene at frame N is written as [`Scene::render_frame`] draws it: the camera's VIEW first,
+//! the scene's calls, then each emitter's draw preceded by the state changes it makes, as a
+//! device sees them at the draw.
+
+use std::sync::Arc;
+
+use pointillist_core::caps::{Caps, VertexProcessing};
+use pointillist_core::device::{
+    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, TransformType, Viewport,
+};
+use pointillist_core::draw::DrawSetup;
+use pointillist_core::math::Mat4;
+use pointillist_core::states::{Api, RenderState};
+use pointillist_core::texture::Texture;
+use pointillist_core::tolerance::{Tolerance, draw_tolerance};
+use pointillist_particles::DrawBuffers;
+use pointillist_scene::{Command, Scene};
+
+use crate::calls::{
+    Call, CallWriter, D3DTS_PROJECTION, D3DTS_VIEW, D3DTS_WORLD, FLAG_SOFTWARE_VERTEX_PROCESSING,
+    Header, NO_TEXTURE,
+};
+
+/// A scene exported for one device.
+#[derive(Clone, Debug)]
+pub struct Exported {
+    /// The call stream.
+    pub stream: Vec<u8>,
+    /// How close the device's image must come to pointillist's (SPEC 7): the largest tolerance
+    /// of the draws after the last clear.
+    pub tolerance: Tolerance,
+    /// The draws that reach the device (empty draws are not written).
+    pub draws: usize,
+}
+
+/// The frame of `scene` a command draws: `frame` (default 0) for a scene that moves or when a
+/// frame is asked for, `None` for a still scene; an error when the frame is past the last.
+pub fn frame_of(scene: &Scene, frame: Option<u32>) -> Result<Option<u32>, String> {
+    if !scene.is_animated() && frame.is_none() {
+        return Ok(None);
+    }
+    let frame = frame.unwrap_or(0);
+    let frames = scene.animation.frames;
+    if frame >= frames {
+        return Err(format!(
+            "{}: --frame {frame} is outside 0..={} ([animation] frames = {frames})",
+            scene.file.display(),
+            frames - 1
+        ));
+    }
+    Ok(Some(frame))
+}
+
+/// The D3DTRANSFORMSTATETYPE of a transform.
+fn transform_id(t: TransformType) -> u32 {
+    match t {
+        TransformType::World => D3DTS_WORLD,
+        TransformType::View => D3DTS_VIEW,
+        TransformType::Projection => D3DTS_PROJECTION,
+    }
+}
+
+fn transform(which: TransformType, m: &Mat4) -> Call {
+    Call::Transform {
+        which: transform_id(which),
+        matrix: m.0,
+    }
+}
+
+fn viewport(vp: &Viewport) -> Call {
+    Call::Viewport {
+        rect: [vp.x, vp.y, vp.width, vp.height],
+        depth: [vp.min_z, vp.max_z],
+    }
+}
+
+/// The backend the export draws on: it writes the stream's particle part from the states a
+/// draw sees, and tracks the tolerance of every draw.
+struct Recorder {
+    writer: CallWriter,
+    /// Textures given an id, kept alive so that their addresses stay unique.
+    textures: Vec<Arc<Texture>>,
+    /// While the particle part is written: the state the stream has set so far.
+    written: Option<DeviceState>,
+    tolerance: Tolerance,
+    draws: usize,
+}
+
+impl Recorder {
+    /// The stream written so far, ended, and what the draws tell; the recorder is left empty.
+    fn finish(&mut self) -> Exported {
+        let empty = CallWriter::new(Header {
+            width: 0,
+            height: 0,
+            flags: 0,
+        });
+        Exported {
+            stream: std::mem::replace(&mut self.writer, empty).finish(),
+            tolerance: self.tolerance,
+            draws: self.draws,
+        }
+    }
+
+    /// The id of `texture`, writing its CreateTexture record the first time.
+    fn texture_id(&mut self, texture: &Option<Arc<Texture>>) -> u32 {
+        let Some(t) = texture else {
+            return NO_TEXTURE;
+        };
+        if let Some(i) = self.textures.iter().position(|k| Arc::ptr_eq(k, t)) {
+            return i as u32;
+        }
+        let id = self.textures.len() as u32;
+        self.writer.create_texture(id, t.levels());
+        self.textures.push(t.clone());
+        id
+    }
+
+    /// Writes the calls that take the stream's state from `old` to `new`.
+    fn write_changes(&mut self, old: &DeviceState, new: &DeviceState) {
+        // Every field is named, so that a new kind of device state cannot be missed here.
+        let DeviceState {
+            api: _,
+            caps: _,
+            target_width: _,
+            target_height: _,
+            render_states,
+            stage_states,
+            sampler_states,
+            textures,
+            world,
+            view,
+            projection,
+            viewport: vp,
+            clip_planes,
+        } = new;
+        let w = &mut self.writer;
+        for (i, (&a, &b)) in old.render_states.iter().zip(render_states).enumerate() {
+            if a != b {
+                w.call(&Call::RenderState {
+                    state: i as u32,
+                    value: b,
+                });
+            }
+        }
+        for (stage, (olds, news)) in old.stage_states.iter().zip(stage_states).enumerate() {
+            for (i, (&a, &b)) in olds.iter().zip(news).enumerate() {
+                if a != b {
+                    w.call(&Call::TextureStageState {
+                        stage: stage as u32,
+                        state: i as u32,
+                        value: b,
+                    });
+                }
+            }
+        }
+        for (s, (olds, news)) in old.sampler_states.iter().zip(sampler_states).enumerate() {
+            for (i, (&a, &b)) in olds.iter().zip(news).enumerate() {
+                if a != b {
+                    w.call(&Call::SamplerState {
+                        sampler: s as u32,
+                        state: i as u32,
+                        value: b,
+                    });
+                }
+            }
+        }
+        let bits = |m: &Mat4| m.0.map(|r| r.map(f32::to_bits));
+        for (which, a, b) in [
+            (TransformType::World, &old.world, world),
+            (TransformType::View, &old.view, view),
+            (TransformType::Projection, &old.projection, projection),
+        ] {
+            if bits(a) != bits(b) {
+                w.call(&transform(which, b));
+            }
+        }
+        if old.viewport != *vp {
+            w.call(&viewport(vp));
+        }
+        for (i, (a, b)) in old.clip_planes.iter().zip(clip_planes).enumerate() {
+            if a.map(f32::to_bits) != b.map(f32::to_bits) {
+                w.call(&Call::ClipPlane {
+                    index: i as u32,
+                    plane: *b,
+                });
+            }
+        }
+        for (stage, (a, b)) in old.textures.iter().zip(textures).enumerate() {
+            let same = match (a, b) {
+                (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                (None, None) => true,
+                _ => false,
+            };
+            if !same {
+                let id = self.texture_id(b);
+                self.writer.call(&Call::SetTexture {
+                    stage: stage as u32,
+                    id,
+                });
+            }
+        }
+    }
+}
+
+impl Backend for Recorder {
+    fn create_target(&mut self, _: u32, _: u32, _: u32, _: f32) -> Result<(), DeviceError> {
+        Ok(())
+    }
+
+    fn clear(&mut self, _: u32, _: f32) -> Result<(), DeviceError> {
+        self.tolerance = Tolerance::Exact;
+        Ok(())
+    }
+
+    fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
+        let (state, fvf) = (draw.state, draw.fvf);
+        self.tolerance = self.tolerance.max(draw_tolerance(draw));
+        self.draws += 1;
+        if let Some(old) = self.written.take() {
+            self.write_changes(&old, state);
+            self.writer
+                .draw_points(fvf.0, fvf.stride() as u32, vertices);
+            self.written = Some(state.clone());
+        }
+        Ok(())
+    }
+
+    fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        Ok(RenderTarget::default())
+    }
+}
+
+/// Writes the scene's own calls literally; `view` replaces every VIEW the scene sets.
+fn write_steps(rec: &mut Recorder, scene: &Scene, view: Option<Mat4>) {
+    if scene.api != Api::D3d9 {
+        for &s in RenderState::all() {
+            let (ours, d3d9) = (
+                s.default_value(scene.api, scene.caps.max_point_size),
+                s.default_value(Api::D3d9, scene.caps.max_point_size),
+            );
+            if ours != d3d9 {
+                rec.writer.call(&Call::RenderState {
+                    state: s.0,
+                    value: ours,
+                });
+            }
+        }
+    }
+    if let Some(m) = &view {
+        rec.writer.call(&transform(TransformType::View, m));
+    }
+    for step in &scene.steps {
+        let call = match &step.command {
+            Command::Clear { color, depth } => Call::Clear {
+                color: *color,
+                depth: *depth,
+            },
+            Command::RenderState(s, v) => Call::RenderState {
+                state: s.0,
+                value: *v,
+            },
+            Command::TextureStageState {
+                stage,
+                state,
+                value,
+            } => Call::TextureStageState {
+                stage: *stage as u32,
+                state: state.0,
+                value: *value,
+            },
+            Command::SamplerState {
+                sampler,
+                state,
+                value,
+            } => Call::SamplerState {
+                sampler: *sampler as u32,
+                state: state.0,
+                value: *value,
+            },
+            Command::Texture { stage, texture } => Call::SetTexture {
+                stage: *stage as u32,
+                id: rec.texture_id(texture),
+            },
+            Command::Transform(TransformType::View, _) if view.is_some() => continue,
+            Command::Transform(which, m) => transform(*which, m),
+            Command::Viewport(vp) => viewport(vp),
+            Command::ClipPlane { index, plane } => Call::ClipPlane {
+                index: *index as u32,
+                plane: *plane,
+            },
+            Command::Draw { fvf, vertices } => {
+                if !vertices.is_empty() {
+                    rec.writer.draw_points(fvf.0, fvf.stride() as u32, vertices);
+                }
+                continue;
+            }
+        };
+        rec.writer.call(&call);
+    }
+}
+
+/// Exports `scene` for a device with `caps` (the vertex processing flag of the header comes
+/// from them); `frame` as [`frame_of`] reads it. Errors are one line naming the scene.
+pub fn export(scene: &Scene, caps: Caps, frame: Option<u32>) -> Result<Exported, String> {
+    let frame = frame_of(scene, frame)?;
+    let flags = match caps.vertex_processing {
+        VertexProcessing::Hardware => 0,
+        VertexProcessing::Software => FLAG_SOFTWARE_VERTEX_PROCESSING,
+    };
+    let recorder = Recorder {
+        writer: CallWriter::new(Header {
+            width: scene.target.width,
+            height: scene.target.height,
+            flags,
+        }),
+        textures: Vec::new(),
+        written: None,
+        tolerance: Tolerance::Exact,
+        draws: 0,
+    };
+    let desc = DeviceDesc {
+        caps,
+        ..scene.device_desc()
+    };
+    let name = scene.file.display();
+    let mut device = Device::new(recorder, desc)
+        .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
+    match frame {
+        None => {
+            write_steps(device.backend_mut(), scene, None);
+            scene.replay(&mut device).map_err(|e| e.to_string())?;
+        }
+        Some(frame) => {
+            // Scene::render_frame, with the stream written as it goes.
+            let mut system = scene.particle_system().map_err(|e| e.to_string())?;
+            system.advance_to(scene.animation.sim_time(frame));
+            let view = scene
+                .animation
+                .view_at(f64::from(frame) / f64::from(scene.animation.fps));
+            write_steps(device.backend_mut(), scene, view);
+            scene
+                .replay_with_view(&mut device, view)
+                .map_err(|e| e.to_string())?;
+            let state = device.state().clone();
+            device.backend_mut().written = Some(state);
+            system
+                .draw(&mut device, &mut DrawBuffers::new())
+                .map_err(|e| format!("{name}: cannot draw the particles: {e}"))?;
+        }
+    }
+    Ok(device.backend_mut().finish())
+}

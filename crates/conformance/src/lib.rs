@@ -1,0 +1,402 @@
+//! The conformance kit: pointillist's scenes replayed through a real `IDirect3DDevice9`, and
+//! the difference shown pixel by pixel (docs/CONFORMANCE.md).
+//!
+//! # Contract
+//! - [`calls`]: the call stream, a versioned binary file of D3D9 calls; [`export::export`]
+//!   writes a scene's calls into one.
+//! - `replayer/replayer.c`: the C99 program that executes streams on a device and writes the
+//!   images and the device's identity and caps; [`runner`] builds and runs it (under Wine, or
+//!   any command) or reads what it wrote elsewhere.
+//! - [`conform`]: every case exported, replayed, rendered by pointillist's CPU backend with the
+//!   caps the device reported, compared with SPEC 7's tolerances ([`compare`]), checked
+//!   against an implementation's known differences ([`expect`]), and written as `report.json`
+//!   and `index.html` ([`report`]). A case that cannot be loaded, exported, replayed or
+//!   rendered is an `error` case; only a run that cannot happen at all is an `Err`.
+
+pub mod calls;
+pub mod compare;
+pub mod expect;
+pub mod export;
+pub mod report;
+pub mod runner;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use pointillist_core::caps::Caps;
+use pointillist_core::device::{Device, DeviceDesc};
+use pointillist_cpu::CpuBackend;
+use pointillist_particles::DrawBuffers;
+use pointillist_scene::Scene;
+
+use crate::expect::{Expectations, Status};
+use crate::report::{CaseImages, CaseReport};
+use crate::runner::{DeviceInfo, Image, Outcome, Runner};
+
+/// One case: a scene file and the name its stream, images and expectations go by.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Case {
+    /// The file name without `.toml`; inside a folder given, its path below that folder with
+    /// `/` written as `.`. Only letters, digits, `_`, `-` and `.`.
+    pub name: String,
+    /// The scene file, as found.
+    pub scene: PathBuf,
+}
+
+fn case_name(relative: &Path) -> String {
+    let s = relative.with_extension("").to_string_lossy().into_owned();
+    s.chars()
+        .map(|c| match c {
+            '/' | '\\' => '.',
+            c if c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.' => c,
+            _ => '_',
+        })
+        .collect()
+}
+
+/// Scene files below `dir`, recursively, in name order.
+fn scenes_in(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), String> {
+    let mut entries: Vec<PathBuf> = fs::read_dir(dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            scenes_in(&p, out)?;
+        } else if p.extension().is_some_and(|e| e == "toml") {
+            out.push(p);
+        }
+    }
+    Ok(())
+}
+
+/// The cases of `paths`: each a scene file or a folder of them (searched recursively for
+/// `*.toml`), in the order given; an error when a path does not exist, a folder holds no scene,
+/// or two scenes would share a name.
+pub fn find_cases(paths: &[PathBuf]) -> Result<Vec<Case>, String> {
+    let mut cases: Vec<Case> = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            let mut found = Vec::new();
+            scenes_in(path, &mut found)?;
+            if found.is_empty() {
+                return Err(format!("{}: no scene files (*.toml) in it", path.display()));
+            }
+            for scene in found {
+                let rel = scene.strip_prefix(path).unwrap_or(&scene);
+                cases.push(Case {
+                    name: case_name(rel),
+                    scene,
+                });
+            }
+        } else if path.is_file() {
+            let file = Path::new(path.file_name().unwrap_or_default());
+            cases.push(Case {
+                name: case_name(file),
+                scene: path.clone(),
+            });
+        } else {
+            return Err(format!("{}: no such scene file or folder", path.display()));
+        }
+    }
+    for (i, c) in cases.iter().enumerate() {
+        if let Some(o) = cases[..i].iter().find(|o| o.name == c.name) {
+            return Err(format!(
+                "{} and {} would both be case `{}`; give them in separate runs",
+                o.scene.display(),
+                c.scene.display(),
+                c.name
+            ));
+        }
+    }
+    Ok(cases)
+}
+
+/// The caps pointillist compares with: the device's, with the scene's vertex processing.
+pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
+    Caps {
+        max_point_size: device.max_point_size,
+        per_vertex_point_size: device.fvfcaps_psize,
+        clip_plane_scaled_points: device.clip_plane_scaled_points,
+        vertex_processing: scene.vertex_processing,
+    }
+}
+
+/// pointillist's image of `scene` (its frame 0 when it moves) on the CPU backend with `caps`.
+pub fn render(scene: &Scene, caps: Caps) -> Result<Image, String> {
+    let name = scene.file.display();
+    let desc = DeviceDesc {
+        caps,
+        ..scene.device_desc()
+    };
+    let mut device = Device::new(CpuBackend::new(), desc)
+        .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
+    match export::frame_of(scene, None)? {
+        None => scene.replay(&mut device).map_err(|e| e.to_string())?,
+        Some(frame) => {
+            let mut system = scene.particle_system().map_err(|e| e.to_string())?;
+            scene
+                .render_frame(&mut device, &mut system, &mut DrawBuffers::new(), frame)
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    let target = device
+        .read_target()
+        .map_err(|e| format!("{name}: cannot read the render target: {e}"))?;
+    Ok(Image {
+        width: target.width,
+        height: target.height,
+        rgba: target.to_rgba8(),
+    })
+}
+
+/// What `pointillist conform` is asked to do.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Scene files and folders.
+    pub paths: Vec<PathBuf>,
+    /// Where the device's images come from.
+    pub runner: Runner,
+    /// The report folder (created; its report files are replaced).
+    pub report: PathBuf,
+    /// The known differences, if any.
+    pub expect: Option<PathBuf>,
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, Default)]
+pub struct Summary {
+    /// Cases run.
+    pub cases: usize,
+    /// Cases per status: match, differs, error.
+    pub counts: [usize; 3],
+    /// Each case whose outcome is not the expected one, with what is unexpected.
+    pub unexpected: Vec<(String, String)>,
+    /// Things worth saying that are not failures (an expectation naming no case of the run).
+    pub warnings: Vec<String>,
+}
+
+/// A case exported, before the device's outcome is known.
+struct Prepared {
+    case: Case,
+    /// The scene and its stream's tolerance, or why the case cannot run.
+    scene: Result<(Scene, pointillist_core::tolerance::Tolerance), String>,
+}
+
+fn prepare(case: Case, calls_dir: &Path) -> Prepared {
+    let scene = pointillist_scene::load(&case.scene)
+        .map_err(|e| e.to_string())
+        .and_then(|scene| {
+            let ex = export::export(&scene, scene.caps, None)?;
+            let file = calls_dir.join(format!("{}.calls", case.name));
+            fs::write(&file, &ex.stream).map_err(|e| format!("{}: {e}", file.display()))?;
+            Ok((scene, ex.tolerance))
+        });
+    Prepared { case, scene }
+}
+
+/// The `[case]` title and rules of a scene.
+fn case_meta(_scene: &Scene) -> (Option<String>, Vec<String>) {
+    (None, Vec::new())
+}
+
+/// What the `[caps]` of a scene ask for that `device` does not report, if anything; nothing
+/// for a scene on the default profile.
+fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
+    let default = Caps {
+        vertex_processing: scene.vertex_processing,
+        ..Caps::reference()
+    };
+    if *scene == default {
+        return None;
+    }
+    let mut diffs = Vec::new();
+    if scene.max_point_size != device.max_point_size {
+        diffs.push(format!("max_point_size {}", scene.max_point_size));
+    }
+    if scene.per_vertex_point_size != device.per_vertex_point_size {
+        diffs.push(format!(
+            "per_vertex_point_size {}",
+            scene.per_vertex_point_size
+        ));
+    }
+    if scene.clip_plane_scaled_points != device.clip_plane_scaled_points {
+        diffs.push(format!(
+            "clip_plane_scaled_points {}",
+            scene.clip_plane_scaled_points
+        ));
+    }
+    (!diffs.is_empty()).then(|| {
+        format!(
+            "compared at the device's caps (the scene asks for {})",
+            diffs.join(", ")
+        )
+    })
+}
+
+/// Compares one case with what the device drew and writes its images.
+fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Path) -> CaseReport {
+    let mut r = CaseReport {
+        name: p.case.name.clone(),
+        scene: p.case.scene.display().to_string(),
+        title: None,
+        rules: Vec::new(),
+        status: Status::Error,
+        pixels_differing: 0,
+        max_channel_difference: 0,
+        tolerance: 0,
+        message: String::new(),
+        verdict: Ok(()),
+        explanation: None,
+        images: None,
+    };
+    let (scene, tolerance) = match &p.scene {
+        Ok(s) => s,
+        Err(e) => {
+            r.message = e.clone();
+            return r;
+        }
+    };
+    (r.title, r.rules) = case_meta(scene);
+    r.tolerance = tolerance.steps();
+    let theirs = match outcome {
+        None => {
+            r.message = "the replayer wrote no result for this case".into();
+            return r;
+        }
+        Some(Outcome::Failed(why)) => {
+            r.message = format!("on the device: {why}");
+            return r;
+        }
+        Some(Outcome::Drawn(image)) => image,
+    };
+    let caps = device_caps(device, &scene.caps);
+    let ours = match render(scene, caps) {
+        Ok(image) => image,
+        Err(e) => {
+            r.message = format!("pointillist: {e}");
+            return r;
+        }
+    };
+    if (theirs.width, theirs.height) != (ours.width, ours.height) {
+        r.message = format!(
+            "the device's image is {}x{}, the target {}x{}",
+            theirs.width, theirs.height, ours.width, ours.height
+        );
+        return r;
+    }
+    let cmp = compare::compare(&ours, theirs, *tolerance);
+    r.pixels_differing = cmp.pixels_differing;
+    r.max_channel_difference = cmp.max_channel_difference;
+    let tol = match tolerance.steps() {
+        0 => "exact".to_string(),
+        n => format!("{n}/255"),
+    };
+    if let Some((x, y, a, b)) = cmp.first {
+        r.status = Status::Differs;
+        r.message = format!(
+            "{} pixels differ beyond the tolerance ({tol}); the first at ({x}, {y}): pointillist \
+             RGBA {a:?}, device {b:?}; largest channel difference {}",
+            cmp.pixels_differing, cmp.max_channel_difference
+        );
+    } else {
+        r.status = Status::Match;
+        r.message = format!(
+            "matches (tolerance {tol}; largest channel difference {})",
+            cmp.max_channel_difference
+        );
+    }
+    if let Some(note) = caps_note(&scene.caps, &caps) {
+        r.message = format!("{}; {note}", r.message);
+    }
+    let files = [
+        (format!("img/{}.pointillist.png", r.name), &ours),
+        (format!("img/{}.device.png", r.name), theirs),
+        (format!("img/{}.diff.png", r.name), &cmp.diff),
+    ];
+    for (file, image) in &files {
+        let path = dir.join(file);
+        if let Err(e) =
+            pointillist_image::write_png_atomic(&path, image.width, image.height, &image.rgba)
+        {
+            r.status = Status::Error;
+            r.message = format!("cannot write {}: {e}", path.display());
+            return r;
+        }
+    }
+    let [(a, _), (b, _), (c, _)] = files;
+    r.images = Some(CaseImages {
+        pointillist: a,
+        device: b,
+        diff: c,
+        shown: (ours.width * cmp.scale, ours.height * cmp.scale),
+    });
+    r
+}
+
+/// Runs the kit: exports every case into `REPORT/calls`, replays them with the runner, compares,
+/// and writes `REPORT/report.json`, `REPORT/index.html` and the images in `REPORT/img`. `Err`
+/// only when the kit itself cannot run (no case found, no device, the report not writable).
+pub fn conform(opts: &Options) -> Result<Summary, String> {
+    let expectations = match &opts.expect {
+        Some(path) => Expectations::load(path)?,
+        None => Expectations::default(),
+    };
+    let cases = find_cases(&opts.paths)?;
+    let dir = &opts.report;
+    let calls_dir = dir.join("calls");
+    for d in [&calls_dir, &dir.join("img")] {
+        fs::create_dir_all(d).map_err(|e| format!("cannot create {}: {e}", d.display()))?;
+    }
+    let prepared: Vec<Prepared> = cases.into_iter().map(|c| prepare(c, &calls_dir)).collect();
+    let names: Vec<String> = prepared
+        .iter()
+        .filter(|p| p.scene.is_ok())
+        .map(|p| p.case.name.clone())
+        .collect();
+    let captures = runner::run(&opts.runner, &calls_dir, &names, dir)?;
+    let mut summary = Summary {
+        cases: prepared.len(),
+        ..Summary::default()
+    };
+    let mut reports = Vec::new();
+    for p in &prepared {
+        let mut r = judge(
+            p,
+            captures.outcomes.get(&p.case.name),
+            &captures.device,
+            dir,
+        );
+        r.verdict = expectations.check(&r.name, r.status, r.pixels_differing);
+        r.explanation = expectations
+            .get(&r.name)
+            .map(|e| (e.d3d9.clone(), e.implementation.clone()));
+        summary.counts[r.status as usize] += 1;
+        if let Err(e) = &r.verdict {
+            summary.unexpected.push((r.name.clone(), e.clone()));
+        }
+        reports.push(r);
+    }
+    for e in &expectations.cases {
+        if !prepared.iter().any(|p| p.case.name == e.case) {
+            summary.warnings.push(format!(
+                "the expectations name case `{}`, which this run does not have",
+                e.case
+            ));
+        }
+    }
+    report::write_atomic(
+        &dir.join("report.json"),
+        &report::json(&captures.device, &reports),
+    )?;
+    report::write_atomic(
+        &dir.join("index.html"),
+        &report::html(
+            &captures.device,
+            expectations.implementation.as_deref(),
+            &reports,
+        ),
+    )?;
+    Ok(summary)
+}

@@ -1,0 +1,403 @@
+//! The kit end to end without a real device: streams replayed on pointillist itself, and
+//! captures and fake replayers standing in for a device.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use pointillist_conformance::calls::{Call, NO_TEXTURE, read_calls};
+use pointillist_conformance::expect::Status;
+use pointillist_conformance::runner::{DeviceInfo, Image, Runner, read_png};
+use pointillist_conformance::{Options, conform, device_caps, export, find_cases, render};
+use pointillist_core::caps::{Caps, VertexProcessing};
+use pointillist_core::device::{Device, DeviceDesc, TransformType, Viewport};
+use pointillist_core::fvf::Fvf;
+use pointillist_core::math::Mat4;
+use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
+use pointillist_core::texture::Texture;
+use pointillist_cpu::CpuBackend;
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "pointillist-conformance-{}-{name}",
+        std::process::id()
+    ));
+    let _ = fs::remove_dir_all(&dir);
+    fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Executes a stream on a fresh D3D9 device of pointillist's CPU backend: what a replayer does
+/// on a real device.
+fn replay_on_pointillist(stream: &[u8], caps: Caps) -> Image {
+    let (header, calls) = read_calls(stream).unwrap();
+    let software = header.flags & 1 != 0;
+    let caps = Caps {
+        vertex_processing: if software {
+            VertexProcessing::Software
+        } else {
+            VertexProcessing::Hardware
+        },
+        ..caps
+    };
+    let desc = DeviceDesc {
+        api: Api::D3d9,
+        caps,
+        ..DeviceDesc::new(header.width, header.height)
+    };
+    let mut d = Device::new(CpuBackend::new(), desc).unwrap();
+    let mut textures: Vec<Option<Arc<Texture>>> = Vec::new();
+    for call in calls {
+        match call {
+            Call::Clear { color, depth } => d.clear(color, depth).unwrap(),
+            Call::RenderState { state, value } => d.set_render_state(RenderState(state), value),
+            Call::TextureStageState {
+                stage,
+                state,
+                value,
+            } => d
+                .set_texture_stage_state(stage as usize, TextureStageState(state), value)
+                .unwrap(),
+            Call::SamplerState {
+                sampler,
+                state,
+                value,
+            } => d
+                .set_sampler_state(sampler as usize, SamplerState(state), value)
+                .unwrap(),
+            Call::CreateTexture { id, levels } => {
+                let id = id as usize;
+                textures.resize(textures.len().max(id + 1), None);
+                textures[id] = Some(Arc::new(Texture::from_levels(levels).unwrap()));
+            }
+            Call::SetTexture { stage, id } => {
+                let t = (id != NO_TEXTURE).then(|| textures[id as usize].clone().unwrap());
+                d.set_texture(stage as usize, t).unwrap();
+            }
+            Call::Transform { which, matrix } => {
+                let which = match which {
+                    256 => TransformType::World,
+                    2 => TransformType::View,
+                    3 => TransformType::Projection,
+                    w => panic!("transform {w}"),
+                };
+                d.set_transform(which, Mat4(matrix));
+            }
+            Call::Viewport { rect, depth } => d
+                .set_viewport(Viewport {
+                    x: rect[0],
+                    y: rect[1],
+                    width: rect[2],
+                    height: rect[3],
+                    min_z: depth[0],
+                    max_z: depth[1],
+                })
+                .unwrap(),
+            Call::ClipPlane { index, plane } => d.set_clip_plane(index as usize, plane).unwrap(),
+            Call::DrawPoints { fvf, vertices, .. } => {
+                d.draw_point_list(Fvf(fvf), &vertices).unwrap();
+            }
+            c => panic!("pointillist cannot replay {c:?} yet"),
+        }
+    }
+    let t = d.read_target().unwrap();
+    Image {
+        width: t.width,
+        height: t.height,
+        rgba: t.to_rgba8(),
+    }
+}
+
+/// Every call that reaches the pixels is in the stream: replayed on a D3D9 device of
+/// pointillist itself, each scene (particles at frame 0, D3D8 scenes included) gives the image
+/// `render` gives, bit for bit.
+#[test]
+fn every_scene_exported_and_replayed_is_its_render() {
+    let mut paths = vec![repo().join("scenes")];
+    let cases = repo().join("crates/conformance/cases");
+    if cases.is_dir() {
+        paths.push(cases);
+    }
+    let mut checked = 0;
+    for dir in paths {
+        for case in find_cases(&[dir]).unwrap() {
+            let scene = pointillist_scene::load(&case.scene).unwrap();
+            let ex = export::export(&scene, scene.caps, None).unwrap();
+            let ours = render(&scene, scene.caps).unwrap();
+            let replayed = replay_on_pointillist(&ex.stream, scene.caps);
+            assert!(ours == replayed, "{}", case.scene.display());
+            assert!(
+                ex.draws > 0 || scene.draw_count() == 0,
+                "{}",
+                case.scene.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20, "{checked} scenes");
+}
+
+/// A particle scene's later frame is exported as `render --frame` draws it.
+#[test]
+fn a_particle_frame_is_exported_as_drawn() {
+    let scene = pointillist_scene::load(&repo().join("scenes/fountain.toml")).unwrap();
+    let ex = export::export(&scene, scene.caps, Some(20)).unwrap();
+    let replayed = replay_on_pointillist(&ex.stream, scene.caps);
+    let frame0 = replay_on_pointillist(
+        &export::export(&scene, scene.caps, Some(0)).unwrap().stream,
+        scene.caps,
+    );
+    assert_ne!(replayed, frame0, "frame 20 has particles frame 0 lacks");
+    let mut device = Device::new(CpuBackend::new(), scene.device_desc()).unwrap();
+    let mut system = scene.particle_system().unwrap();
+    let mut buffers = pointillist_particles::DrawBuffers::new();
+    scene
+        .render_frame(&mut device, &mut system, &mut buffers, 20)
+        .unwrap();
+    assert_eq!(replayed.rgba, device.read_target().unwrap().to_rgba8());
+    let e = export::export(&scene, scene.caps, Some(100_000)).unwrap_err();
+    assert!(e.contains("--frame 100000 is outside"), "{e}");
+}
+
+const DEVICE_TXT: &str = "format=1\ndescription=Test Adapter 9000\ndriver=test.dll\n\
+    max_point_size=64\nfvfcaps_psize=1\nclip_plane_scaled_points=1\n";
+
+/// A 16x16 scene with one pre-transformed point of `size` pixels (POINTSIZE) at (8, 8).
+fn point_scene(size: f32) -> String {
+    format!(
+        "format = 1\n[target]\nwidth = 16\nheight = 16\n[states]\nPOINTSIZE = {size:?}\n\
+         [[draw]]\nfvf = \"XYZRHW | DIFFUSE\"\nvertices = [[8.0, 8.0, 0.5, 1.0, 0xFFFF8040]]\n"
+    )
+}
+
+fn write_png(path: &Path, image: &Image) {
+    pointillist_image::write_png_atomic(path, image.width, image.height, &image.rgba).unwrap();
+}
+
+/// Captures of a device reporting MaxPointSize 64: pointillist is compared at 64, so a point
+/// of POINTSIZE 100 matches the device's 64-pixel square; a changed pixel, a failed call, a
+/// missing result and a scene that does not load each end as the report says, and only what
+/// the expectations do not list is unexpected.
+#[test]
+fn captures_are_compared_at_the_device_caps_and_reported() {
+    let dir = temp("captures");
+    let scenes = dir.join("scenes");
+    fs::create_dir_all(&scenes).unwrap();
+    let big = point_scene(100.0);
+    for (name, text) in [
+        ("big", big.as_str()),
+        ("changed", &point_scene(3.0)),
+        ("failed", &point_scene(3.0)),
+        ("missing", &point_scene(3.0)),
+        ("broken", "format = 1\n[target]\nwidth = 0\n"),
+    ] {
+        fs::write(scenes.join(format!("{name}.toml")), text).unwrap();
+    }
+    let device = DeviceInfo::parse(DEVICE_TXT, Path::new("device.txt")).unwrap();
+    let caps_dir = dir.join("captures");
+    fs::create_dir_all(&caps_dir).unwrap();
+    fs::write(caps_dir.join("device.txt"), DEVICE_TXT).unwrap();
+    let load = |n: &str| pointillist_scene::load(&scenes.join(format!("{n}.toml"))).unwrap();
+    let big_scene = load("big");
+    let at_64 = render(&big_scene, device_caps(&device, &big_scene.caps)).unwrap();
+    let covered = at_64.rgba.chunks(4).filter(|p| p[0] == 0xFF).count();
+    assert_eq!(
+        covered,
+        16 * 16,
+        "a 64-pixel point covers the whole 16x16 target"
+    );
+    write_png(&caps_dir.join("big.png"), &at_64);
+    let mut changed = render(&load("changed"), Caps::reference()).unwrap();
+    changed.rgba[(8 * 16 + 8) * 4 + 1] ^= 0x10;
+    write_png(&caps_dir.join("changed.png"), &changed);
+    fs::write(
+        caps_dir.join("results.txt"),
+        "big\tok\nchanged\tok\nfailed\terror\tSetRenderState(154, 0x40400000) failed: \
+         D3DERR_INVALIDCALL (0x8876086C), record at byte 44\n",
+    )
+    .unwrap();
+    let expect = dir.join("expect.toml");
+    fs::write(
+        &expect,
+        "implementation = \"the test device\"\n\
+         [[case]]\ncase = \"changed\"\nstatus = \"differs\"\npixels_differing = 1\n\
+         d3d9 = \"orange\"\nimplementation = \"a greener orange\"\n\
+         [[case]]\ncase = \"failed\"\nstatus = \"error\"\nd3d9 = \"accepts 3.0\"\n\
+         implementation = \"refuses it\"\n\
+         [[case]]\ncase = \"gone\"\nstatus = \"error\"\nd3d9 = \"x\"\nimplementation = \"y\"\n",
+    )
+    .unwrap();
+    let report = dir.join("report");
+    let summary = conform(&Options {
+        paths: vec![scenes.clone()],
+        runner: Runner::Captures(caps_dir.clone()),
+        report: report.clone(),
+        expect: Some(expect),
+    })
+    .unwrap();
+    assert_eq!(summary.cases, 5);
+    assert_eq!(summary.counts, [1, 1, 3]);
+    let unexpected: Vec<&str> = summary.unexpected.iter().map(|u| u.0.as_str()).collect();
+    assert_eq!(unexpected, ["broken", "missing"]);
+    assert_eq!(summary.warnings.len(), 1, "{:?}", summary.warnings);
+    assert!(summary.warnings[0].contains("`gone`"));
+
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(report.join("report.json")).unwrap()).unwrap();
+    assert_eq!(
+        json["device"],
+        serde_json::json!({"description": "Test Adapter 9000", "max_point_size": 64.0,
+            "fvfcaps_psize": true, "clip_plane_scaled_points": true})
+    );
+    let cases = json["cases"].as_array().unwrap();
+    let by_scene = |n: &str| {
+        cases
+            .iter()
+            .find(|c| {
+                c["scene"]
+                    .as_str()
+                    .unwrap()
+                    .ends_with(&format!("/{n}.toml"))
+            })
+            .unwrap()
+    };
+    for c in cases {
+        let mut keys: Vec<&str> = c.as_object().unwrap().keys().map(String::as_str).collect();
+        keys.sort_unstable();
+        assert_eq!(
+            keys,
+            [
+                "max_channel_difference",
+                "message",
+                "pixels_differing",
+                "scene",
+                "status"
+            ]
+        );
+    }
+    assert_eq!(by_scene("big")["status"], "match");
+    assert_eq!(by_scene("changed")["status"], "differs");
+    assert_eq!(by_scene("changed")["pixels_differing"], 1);
+    assert_eq!(by_scene("changed")["max_channel_difference"], 0x10);
+    let failed = by_scene("failed")["message"].as_str().unwrap();
+    assert!(failed.contains("SetRenderState(154"), "{failed}");
+    assert_eq!(by_scene("missing")["status"], "error");
+    assert!(
+        by_scene("broken")["message"]
+            .as_str()
+            .unwrap()
+            .contains("width")
+    );
+
+    let html = fs::read_to_string(report.join("index.html")).unwrap();
+    for needle in [
+        "Test Adapter 9000",
+        "the test device",
+        "a greener orange",
+        "id=\"changed\"",
+        "img/changed.diff.png",
+        "2 unexpected outcomes",
+    ] {
+        assert!(html.contains(needle), "index.html lacks {needle}");
+    }
+    let diff = read_png(&report.join("img/changed.diff.png")).unwrap();
+    assert_eq!(
+        (diff.width, diff.height),
+        (256, 256),
+        "16x16 shown 16 times larger"
+    );
+    let device_png = read_png(&report.join("img/changed.device.png")).unwrap();
+    assert_eq!(device_png, changed);
+    assert!(report.join("calls/changed.calls").is_file());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A replayer that dies in a case: the case fails with that said, and the cases after it are
+/// replayed by a second start.
+#[test]
+fn a_replayer_that_stops_is_restarted_after_the_case() {
+    let dir = temp("crash");
+    let scenes = dir.join("scenes");
+    fs::create_dir_all(&scenes).unwrap();
+    for name in ["a_boom", "b_fine", "c_fine"] {
+        fs::write(scenes.join(format!("{name}.toml")), point_scene(3.0)).unwrap();
+    }
+    let images = dir.join("images");
+    fs::create_dir_all(&images).unwrap();
+    let scene = pointillist_scene::load(&scenes.join("b_fine.toml")).unwrap();
+    let device = DeviceInfo::parse(DEVICE_TXT, Path::new("device.txt")).unwrap();
+    let image = render(&scene, device_caps(&device, &scene.caps)).unwrap();
+    write_png(&images.join("b_fine.png"), &image);
+    write_png(&images.join("c_fine.png"), &image);
+    fs::write(images.join("device.txt"), DEVICE_TXT).unwrap();
+    // The replayer's arguments: OUTDIR @LIST, run in the folder of the streams.
+    let script = dir.join("fake-replayer.sh");
+    fs::write(
+        &script,
+        format!(
+            "out=$1; cp {img}/device.txt \"$out/\"\n\
+             while read -r f; do n=${{f%.calls}}; test -s \"$f\" || exit 9\n\
+             case $n in *boom) exit 3;; esac\n\
+             cp {img}/$n.png \"$out/\"; printf '%s\\tok\\n' \"$n\" >> \"$out/results.txt\"\n\
+             done < \"${{2#@}}\"\n",
+            img = images.display()
+        ),
+    )
+    .unwrap();
+    let summary = conform(&Options {
+        paths: vec![scenes],
+        runner: Runner::Command(format!("sh {}", script.display())),
+        report: dir.join("report"),
+        expect: None,
+    })
+    .unwrap();
+    assert_eq!(summary.counts, [2, 0, 1]);
+    assert_eq!(summary.unexpected.len(), 1);
+    assert_eq!(summary.unexpected[0].0, "a_boom");
+    let json = fs::read_to_string(dir.join("report/report.json")).unwrap();
+    assert!(
+        json.contains("the replayer stopped during this case"),
+        "{json}"
+    );
+    let log = fs::read_to_string(dir.join("report/replayer.log")).unwrap_or_default();
+    assert!(log.is_empty(), "{log}");
+
+    // A command that leaves no device description: the kit cannot run.
+    let e = conform(&Options {
+        paths: vec![dir.join("scenes")],
+        runner: Runner::Command("true".into()),
+        report: dir.join("report2"),
+        expect: None,
+    })
+    .unwrap_err();
+    assert!(e.contains("wrote no device description"), "{e}");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn cases_are_named_by_their_place_and_never_twice() {
+    let dir = temp("names");
+    fs::create_dir_all(dir.join("a/sub")).unwrap();
+    fs::write(dir.join("a/x.toml"), "").unwrap();
+    fs::write(dir.join("a/sub/y z.toml"), "").unwrap();
+    fs::write(dir.join("a/sub/notes.txt"), "").unwrap();
+    let cases = find_cases(&[dir.join("a")]).unwrap();
+    let names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["sub.y_z", "x"]);
+    let e = find_cases(&[dir.join("a"), dir.join("a/x.toml")]).unwrap_err();
+    assert!(e.contains("would both be case `x`"), "{e}");
+    let e = find_cases(&[dir.join("nothing")]).unwrap_err();
+    assert!(e.contains("no such scene file or folder"), "{e}");
+    fs::create_dir_all(dir.join("empty")).unwrap();
+    assert!(
+        find_cases(&[dir.join("empty")])
+            .unwrap_err()
+            .contains("no scene files")
+    );
+    assert_eq!(Status::Match.to_string(), "match");
+    let _ = fs::remove_dir_all(&dir);
+}
