@@ -12,7 +12,7 @@ pub mod workloads;
 
 use std::time::{Duration, Instant};
 
-use pointillist_core::device::DeviceError;
+use pointillist_core::DeviceError;
 use workloads::Workload;
 
 /// Per-frame times of one renderer on one workload.

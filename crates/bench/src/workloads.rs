@@ -9,12 +9,12 @@
 
 use std::sync::Arc;
 
-use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, TransformType};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::point::PointSetup;
 use pointillist_core::states::{Blend, RenderState, SamplerState, TextureFilter};
 use pointillist_core::texture::Texture;
+use pointillist_core::{Backend, Device, DeviceDesc, DeviceError, TransformType};
 
 /// Which of the four workloads.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

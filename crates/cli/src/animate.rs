@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, Stdio};
 
 use indicatif::{ProgressBar, ProgressStyle};
-use pointillist_core::device::Device;
+use pointillist_core::Device;
 use pointillist_image::output::{Destination, PendingFile, commit_all};
 use pointillist_particles::DrawBuffers;
 

@@ -5,7 +5,7 @@
 //! code is the same for both. Opening the GPU fails with a one-line reason (no adapter, no
 //! driver) instead of falling back silently.
 
-use pointillist_core::device::Backend;
+use pointillist_core::Backend;
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 

@@ -11,7 +11,7 @@ use pointillist_bench::workloads::{Kind, Workload};
 use pointillist_bench::{
     BenchOptions, Timing, median, ms, run as run_bench, time_frames, time_pointillist,
 };
-use pointillist_core::device::{Backend, Device, DeviceDesc, TransformType};
+use pointillist_core::{Backend, Device, DeviceDesc, TransformType};
 use pointillist_gpu::{ContextOptions, GpuBackend, GpuContext};
 use pointillist_particles::{DrawBuffers, ParticleSystem, presets};
 

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use pointillist_core::device::Device;
+use pointillist_core::Device;
 use pointillist_image::output::Destination;
 
 use crate::{RenderArgs, backend};

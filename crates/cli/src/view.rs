@@ -13,8 +13,8 @@ use std::num::NonZeroU32;
 use std::rc::Rc;
 use std::time::{Duration, Instant};
 
-use pointillist_core::device::{Backend, Device};
 use pointillist_core::math::Mat4;
+use pointillist_core::{Backend, Device};
 use pointillist_particles::{DrawBuffers, ParticleSystem};
 use pointillist_scene::Scene;
 use winit::application::ApplicationHandler;
@@ -357,7 +357,7 @@ fn run_on<B: Backend>(
 pub fn run(args: &ViewArgs) -> Result<(), String> {
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
     let title = format!("pointillist - {}", args.scene.display());
-    let cannot = |e: pointillist_core::device::DeviceError| {
+    let cannot = |e: pointillist_core::DeviceError| {
         format!("{}: cannot create the device: {e}", args.scene.display())
     };
     let cpu =

@@ -461,7 +461,7 @@ replayed:
             }
         }
     }
-    IDirect3DSurface9_UnlockRect(sys);
+    CHECK(IDirect3DSurface9_UnlockRect(sys), "UnlockRect(target copy)");
     if (!rgba)
         FAIL("out of memory");
     *out_w = width;

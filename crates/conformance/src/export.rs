@@ -10,15 +10,15 @@
 
 use std::sync::Arc;
 
+use pointillist_core::DrawSetup;
 use pointillist_core::caps::{Caps, VertexProcessing};
-use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, TransformType, Viewport,
-};
-use pointillist_core::draw::DrawSetup;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState};
 use pointillist_core::texture::Texture;
 use pointillist_core::tolerance::{Tolerance, draw_tolerance};
+use pointillist_core::{
+    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, TransformType, Viewport,
+};
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::{Command, Scene};
 

@@ -24,7 +24,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{Device, DeviceDesc};
+use pointillist_core::color::rgba8_to_argb;
+use pointillist_core::{Device, DeviceDesc, RenderTarget};
 use pointillist_cpu::CpuBackend;
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::Scene;
@@ -54,32 +55,14 @@ fn case_name(relative: &Path) -> String {
         .collect()
 }
 
-/// Scene files below `dir`, recursively, in name order.
-fn scenes_in(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), String> {
-    let mut entries: Vec<PathBuf> = fs::read_dir(dir)
-        .map_err(|e| format!("{}: {e}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() {
-            scenes_in(&p, out)?;
-        } else if p.extension().is_some_and(|e| e == "toml") {
-            out.push(p);
-        }
-    }
-    Ok(())
-}
-
-/// The cases of `paths`: each a scene file or a folder of them (searched recursively for
-/// `*.toml`), in the order given; an error when a path does not exist, a folder holds no scene,
+/// The cases of `paths`: each a scene file or a folder of them (every `*.toml` below it, as
+/// [`pointillist_scene::list_cases`] finds them), in the order given; an error when a path does not exist, a folder holds no scene,
 /// or two scenes would share a name.
 pub fn find_cases(paths: &[PathBuf]) -> Result<Vec<Case>, String> {
     let mut cases: Vec<Case> = Vec::new();
     for path in paths {
         if path.is_dir() {
-            let mut found = Vec::new();
-            scenes_in(path, &mut found)?;
+            let found = pointillist_scene::list_cases(path).map_err(|e| e.to_string())?;
             if found.is_empty() {
                 return Err(format!("{}: no scene files (*.toml) in it", path.display()));
             }
@@ -125,6 +108,16 @@ pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
 
 /// pointillist's image of `scene` (its frame 0 when it moves) on the CPU backend with `caps`.
 pub fn render(scene: &Scene, caps: Caps) -> Result<Image, String> {
+    let target = render_target(scene, caps)?;
+    Ok(Image {
+        width: target.width,
+        height: target.height,
+        rgba: target.to_rgba8(),
+    })
+}
+
+/// [`render`]'s target, depth buffer included.
+fn render_target(scene: &Scene, caps: Caps) -> Result<RenderTarget, String> {
     let name = scene.file.display();
     let desc = DeviceDesc {
         caps,
@@ -141,14 +134,9 @@ pub fn render(scene: &Scene, caps: Caps) -> Result<Image, String> {
                 .map_err(|e| e.to_string())?;
         }
     }
-    let target = device
+    device
         .read_target()
-        .map_err(|e| format!("{name}: cannot read the render target: {e}"))?;
-    Ok(Image {
-        width: target.width,
-        height: target.height,
-        rgba: target.to_rgba8(),
-    })
+        .map_err(|e| format!("{name}: cannot read the render target: {e}"))
 }
 
 /// What `pointillist conform` is asked to do.
@@ -197,8 +185,28 @@ fn prepare(case: Case, calls_dir: &Path) -> Prepared {
 }
 
 /// The `[case]` title and rules of a scene.
-fn case_meta(_scene: &Scene) -> (Option<String>, Vec<String>) {
-    (None, Vec::new())
+fn case_meta(scene: &Scene) -> (Option<String>, Vec<String>) {
+    scene.case.as_ref().map_or((None, Vec::new()), |c| {
+        (Some(c.title.clone()), c.rules.clone())
+    })
+}
+
+/// Whether the device's image holds the D3D9 facts the case states (its `[[case.expect]]`
+/// pixels and the clear colour elsewhere), independently of pointillist. The device's depth
+/// is not read back: depth expectations are checked against pointillist's depth buffer.
+fn device_facts(scene: &Scene, theirs: &Image, ours: &RenderTarget) -> Option<Result<(), String>> {
+    let case = scene.case.as_ref()?;
+    let target = RenderTarget {
+        width: theirs.width,
+        height: theirs.height,
+        color: theirs
+            .rgba
+            .chunks_exact(4)
+            .map(|p| rgba8_to_argb([p[0], p[1], p[2], p[3]]))
+            .collect(),
+        depth: ours.depth.clone(),
+    };
+    Some(case.check(&target, scene.target.clear, &scene.file))
 }
 
 /// What the `[caps]` of a scene ask for that `device` does not report, if anything; nothing
@@ -250,6 +258,7 @@ fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Pat
         verdict: Ok(()),
         explanation: None,
         images: None,
+        facts: None,
     };
     let (scene, tolerance) = match &p.scene {
         Ok(s) => s,
@@ -272,8 +281,15 @@ fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Pat
         Some(Outcome::Drawn(image)) => image,
     };
     let caps = device_caps(device, &scene.caps);
-    let ours = match render(scene, caps) {
-        Ok(image) => image,
+    let (ours, target) = match render_target(scene, caps) {
+        Ok(t) => (
+            Image {
+                width: t.width,
+                height: t.height,
+                rgba: t.to_rgba8(),
+            },
+            t,
+        ),
         Err(e) => {
             r.message = format!("pointillist: {e}");
             return r;
@@ -309,6 +325,13 @@ fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Pat
     }
     if let Some(note) = caps_note(&scene.caps, &caps) {
         r.message = format!("{}; {note}", r.message);
+    }
+    r.facts = device_facts(scene, theirs, &target);
+    if let Some(Err(_)) = &r.facts {
+        r.message = format!(
+            "{}; the device breaks the case's own expectations",
+            r.message
+        );
     }
     let files = [
         (format!("img/{}.pointillist.png", r.name), &ours),

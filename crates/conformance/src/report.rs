@@ -56,6 +56,9 @@ pub struct CaseReport {
     pub explanation: Option<(String, String)>,
     /// The images, when the device drew one.
     pub images: Option<CaseImages>,
+    /// Whether the device's image holds the case's own `[[case.expect]]` facts (`None` for a
+    /// scene without a `[case]` table or without a device image); `Err` lists what fails.
+    pub facts: Option<Result<(), String>>,
 }
 
 #[derive(Serialize)]
@@ -332,6 +335,17 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
             );
         }
         let _ = write!(h, "<p>{}</p>", esc(&c.message));
+        match &c.facts {
+            Some(Ok(())) => h.push_str("<p>The device holds the case's stated facts.</p>"),
+            Some(Err(e)) => {
+                let _ = write!(
+                    h,
+                    "<p><b>The device breaks the case's stated facts:</b><br>{}</p>",
+                    esc(e).replace('\n', "<br>")
+                );
+            }
+            None => {}
+        }
         if let Some((d3d9, imp)) = &c.explanation {
             let _ = write!(
                 h,

@@ -10,11 +10,11 @@ use pointillist_conformance::expect::Status;
 use pointillist_conformance::runner::{DeviceInfo, Image, Runner, read_png};
 use pointillist_conformance::{Options, conform, device_caps, export, find_cases, render};
 use pointillist_core::caps::{Caps, VertexProcessing};
-use pointillist_core::device::{Device, DeviceDesc, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 use pointillist_core::texture::Texture;
+use pointillist_core::{Device, DeviceDesc, TransformType, Viewport};
 use pointillist_cpu::CpuBackend;
 
 fn repo() -> PathBuf {
@@ -187,10 +187,20 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     let dir = temp("captures");
     let scenes = dir.join("scenes");
     fs::create_dir_all(&scenes).unwrap();
-    let big = point_scene(100.0);
+    // Each states what D3D9 draws; the device's image is checked against it as well.
+    let big = format!(
+        "{}[case]\ntitle = \"clamped to 64\"\nrules = [\"2.3\"]\n\
+         [[case.expect]]\nrect = [0, 0, 15, 15]\ncolor = 0xFFFF8040\n",
+        point_scene(100.0)
+    );
+    let three = format!(
+        "{}[case]\ntitle = \"three\"\nrules = [\"2.1\", \"4.1\"]\n\
+         [[case.expect]]\nrect = [7, 7, 9, 9]\ncolor = 0xFFFF8040\n",
+        point_scene(3.0)
+    );
     for (name, text) in [
         ("big", big.as_str()),
-        ("changed", &point_scene(3.0)),
+        ("changed", &three),
         ("failed", &point_scene(3.0)),
         ("missing", &point_scene(3.0)),
         ("broken", "format = 1\n[target]\nwidth = 0\n"),
@@ -283,6 +293,11 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     assert_eq!(by_scene("changed")["status"], "differs");
     assert_eq!(by_scene("changed")["pixels_differing"], 1);
     assert_eq!(by_scene("changed")["max_channel_difference"], 0x10);
+    let changed_message = by_scene("changed")["message"].as_str().unwrap();
+    assert!(
+        changed_message.ends_with("the device breaks the case's own expectations"),
+        "{changed_message}"
+    );
     let failed = by_scene("failed")["message"].as_str().unwrap();
     assert!(failed.contains("SetRenderState(154"), "{failed}");
     assert_eq!(by_scene("missing")["status"], "error");
@@ -301,6 +316,10 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
         "id=\"changed\"",
         "img/changed.diff.png",
         "2 unexpected outcomes",
+        "The device holds the case's stated facts.",
+        "The device breaks the case's stated facts:",
+        "<b>2.3</b> Clamp, always",
+        "SPEC 2.1, 4.1",
     ] {
         assert!(html.contains(needle), "index.html lacks {needle}");
     }

@@ -4,7 +4,7 @@
 //! Draw with a [`CpuDevice`], the D3D9-shaped [`Device`] over [`CpuBackend`]:
 //!
 //! ```
-//! use pointillist_core::device::{DeviceDesc, XyzRhwDiffuse};
+//! use pointillist_core::{DeviceDesc, XyzRhwDiffuse};
 //! use pointillist_core::states::RenderState;
 //!
 //! let mut device = pointillist_cpu::device(DeviceDesc::new(128, 128)).unwrap();

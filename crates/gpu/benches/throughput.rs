@@ -7,7 +7,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use pointillist_bench::workloads::{Kind, Workload};
-use pointillist_core::device::Device;
+use pointillist_core::Device;
 use pointillist_gpu::{GpuBackend, GpuContext};
 
 fn benches(c: &mut Criterion) {

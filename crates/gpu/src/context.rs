@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use std::fmt;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use pointillist_core::device::{DeviceError, MAX_STAGES};
+use pointillist_core::{DeviceError, MAX_STAGES};
 
 use crate::exact::{ExactLayouts, ExactPipelines};
 use crate::pipeline::{ClipPlaneMethod, PipelineKey, create_pipeline};

@@ -18,7 +18,7 @@
 
 use std::sync::Arc;
 
-use pointillist_core::draw::DrawSetup;
+use pointillist_core::DrawSetup;
 
 use crate::context::{GpuContext, GpuError, storage_entry, uniform_entry, whole_buffers};
 use crate::pipeline::TargetDesc;

@@ -25,7 +25,7 @@
 //!   [`GpuError`], and a [`DeviceError::Backend`] through the `Backend` trait; nothing panics.
 //!
 //! ```no_run
-//! use pointillist_core::device::{DeviceDesc, XyzRhwDiffuse};
+//! use pointillist_core::{DeviceDesc, XyzRhwDiffuse};
 //! use pointillist_core::states::RenderState;
 //!
 //! let mut device = pointillist_gpu::device(DeviceDesc::new(128, 128)).unwrap();
@@ -47,13 +47,12 @@ mod uniforms;
 
 use std::sync::Arc;
 
+use pointillist_core::DrawSetup;
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
-use pointillist_core::draw::DrawSetup;
+use pointillist_core::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 
 pub use context::{AdapterSummary, ContextOptions, GpuContext, GpuError};
 pub use pipeline::{ClipPlaneMethod, TargetDesc};
-pub use pointillist_core::device;
 pub use renderer::{PointRenderer, PreparedDraw};
 /// The wgpu this crate is built on, for engines that embed it.
 pub use wgpu;

@@ -13,7 +13,7 @@
 //! - Keys are built from core's resolved [`PointSetup`] and [`PixelSetup`]; the D3D enums are
 //!   mapped to wgpu state here and nowhere else.
 
-use pointillist_core::draw::DrawSetup;
+use pointillist_core::DrawSetup;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::pixel::{BlendSetup, StageSetup, dest_factor};
 use pointillist_core::states::{Blend, BlendOp, Cmp, TextureFilter, TextureOp};

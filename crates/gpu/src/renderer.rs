@@ -17,8 +17,8 @@ use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::{Arc, Weak};
 
-use pointillist_core::device::MAX_STAGES;
-use pointillist_core::draw::DrawSetup;
+use pointillist_core::DrawSetup;
+use pointillist_core::MAX_STAGES;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::texture::Texture;
 

@@ -21,8 +21,8 @@ use pointillist_core::states::{
 };
 
 use pointillist_core::color::WHITE;
-use pointillist_core::device::{MAX_CLIP_PLANES, MAX_STAGES};
 use pointillist_core::texture::COORD_LIMIT;
+use pointillist_core::{MAX_CLIP_PLANES, MAX_STAGES};
 
 use crate::exact::{POINTS_PER_GROUP, TILE};
 use crate::pipeline::{PipelineKey, StageKey};

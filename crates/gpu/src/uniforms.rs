@@ -8,10 +8,10 @@
 //! compute per point (`2 / viewport width`, the pixel-plane terms, ...) are computed here, on the
 //! CPU, with core's expressions, so they are correctly rounded and never contracted.
 
-use pointillist_core::device::{MAX_CLIP_PLANES, MAX_STAGES};
-use pointillist_core::draw::DrawSetup;
+use pointillist_core::DrawSetup;
 use pointillist_core::math::Mat4;
 use pointillist_core::texture::SamplerDesc;
+use pointillist_core::{MAX_CLIP_PLANES, MAX_STAGES};
 
 /// 16-byte slots in the block: three matrices, nine single slots, three per-stage arrays, the
 /// clip planes, the cascade constants and BLENDFACTOR.

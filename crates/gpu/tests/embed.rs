@@ -3,14 +3,14 @@
 
 use std::sync::Arc;
 
+use pointillist_core::DrawSetup;
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{DeviceDesc, DeviceState, RenderTarget, Vertex, XyzRhwPsizeDiffuse};
-use pointillist_core::draw::DrawSetup;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Api, Blend, RenderState};
 use pointillist_core::texture::Texture;
+use pointillist_core::{DeviceDesc, DeviceState, RenderTarget, Vertex, XyzRhwPsizeDiffuse};
 use pointillist_gpu::{GpuContext, PointRenderer, TargetDesc};
-use pointillist_testkit::parity::{Tolerance, compare, cpu, gpu_context};
+use pointillist_testkit::{Tolerance, compare, cpu, gpu_context};
 
 const W: u32 = 64;
 const H: u32 = 48;
@@ -260,7 +260,7 @@ fn errors_are_device_errors_not_panics() {
     let e = renderer
         .prepare(&DrawSetup::new(&state(), fvf()), &vertices(), &desc)
         .expect_err("an integer colour target cannot blend");
-    let message = pointillist_core::device::DeviceError::from(e).to_string();
+    let message = pointillist_core::DeviceError::from(e).to_string();
     assert!(message.contains("GPU error"), "{message}");
     // The context stays usable.
     let desc = TargetDesc {
@@ -279,7 +279,7 @@ fn errors_are_device_errors_not_panics() {
 /// draw on a small target is fine.
 #[test]
 fn a_target_beyond_the_adapter_is_an_error_not_a_panic() {
-    use pointillist_core::device::{Backend, Device};
+    use pointillist_core::{Backend, Device};
     use pointillist_gpu::GpuBackend;
     let Some(ctx) = gpu_context() else {
         return;

@@ -3,7 +3,7 @@
 //! (bilinear filtering; their SRCALPHA/INVSRCALPHA piles take the exact blending path).
 
 use pointillist_bench::workloads::{Kind, Workload};
-use pointillist_testkit::parity::{Tolerance, check_desc};
+use pointillist_testkit::{Tolerance, check_desc};
 
 #[test]
 fn workloads_match_the_cpu_backend() {

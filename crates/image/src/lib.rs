@@ -17,7 +17,7 @@ use std::fs;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use pointillist_core::device::RenderTarget;
+use pointillist_core::RenderTarget;
 use pointillist_core::texture::{Texture, TextureError};
 
 pub mod dds;

@@ -7,7 +7,7 @@ use std::hint::black_box;
 use std::sync::Arc;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use pointillist_core::device::{DeviceDesc, TransformType};
+use pointillist_core::{DeviceDesc, TransformType};
 use pointillist_cpu::CpuDevice;
 use pointillist_particles::{DrawBuffers, ParticleSystem, presets};
 

@@ -13,12 +13,12 @@
 use std::fmt;
 use std::sync::Arc;
 
-use pointillist_core::device::{Backend, Device, DeviceError};
 use pointillist_core::states::{
     Blend, BlendOp, RenderState, SamplerState, TA_DIFFUSE, TA_TEXTURE, TextureFilter, TextureOp,
     TextureStageState, ZBufferType,
 };
 use pointillist_core::texture::Texture;
+use pointillist_core::{Backend, Device, DeviceError};
 
 use crate::curve::Curve;
 use crate::rng::Rng;

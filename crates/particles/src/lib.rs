@@ -7,7 +7,7 @@
 //! bursts, from a point, box, sphere, disc or line), forces move them (gravity, wind through drag,
 //! turbulence), curves change their size and colour over their life, and a [`ParticleSystem`]
 //! writes them as an `XYZ | PSIZE | DIFFUSE` point list to draw with
-//! [`Device::draw_point_list`](pointillist_core::device::Device::draw_point_list) on any backend,
+//! [`Device::draw_point_list`](pointillist_core::Device::draw_point_list) on any backend,
 //! with each emitter's render states.
 //!
 //! The simulation uses a fixed time step and per-particle random numbers derived from
@@ -16,7 +16,7 @@
 //! emitters update in parallel on rayon's thread pool.
 //!
 //! ```
-//! use pointillist_core::device::{DeviceDesc, TransformType};
+//! use pointillist_core::{DeviceDesc, TransformType};
 //! use pointillist_core::math::Mat4;
 //! use pointillist_particles::{Emitter, ParticleSystem, Range, Range3, SystemConfig};
 //!
@@ -45,21 +45,21 @@
 //! assert_eq!(buffers.vertices().len(), 200 * pointillist_particles::VERTEX_STRIDE);
 //! ```
 
-pub mod curve;
-pub mod emitter;
-pub mod noise;
+mod curve;
+mod emitter;
+mod noise;
 pub mod presets;
-pub mod rng;
-pub mod system;
+mod rng;
+mod system;
 
-pub use curve::{Curve, CurveError};
+pub use curve::{Curve, CurveError, Keyable};
 pub use emitter::{
     BlendMode, Burst, ConfigError, Emitter, MAX_PARTICLES, Range, Range3, RenderSettings, Shape,
     Turbulence,
 };
-pub use noise::NoiseField;
+pub use noise::{NOISE_PERIOD, NoiseField};
 pub use rng::Rng;
 pub use system::{
-    BLOCK, DrawBuffers, EmitterStats, PARALLEL_MIN, ParticleSystem, SystemConfig, VERTEX_FVF,
-    VERTEX_STRIDE, sort_back_to_front,
+    BLOCK, DrawBuffers, EmitterStats, MAX_TIME_STEP, PARALLEL_MIN, ParticleSystem, SystemConfig,
+    VERTEX_FVF, VERTEX_STRIDE, sort_back_to_front,
 };

@@ -27,9 +27,9 @@
 //!   `color_over_life(t)` with red, green and blue times the particle's brightness, `t` being
 //!   age / lifetime.
 
-use pointillist_core::device::{Backend, Device, DeviceError, Vertex, XyzPsizeDiffuse};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
+use pointillist_core::{Backend, Device, DeviceError, Vertex, XyzPsizeDiffuse};
 use rayon::prelude::*;
 
 use crate::emitter::{ConfigError, Emitter};

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{V, vertices};
-use pointillist_core::device::DeviceDesc;
+use pointillist_core::DeviceDesc;
 use pointillist_particles::{
     BlendMode, Burst, Curve, DrawBuffers, Emitter, ParticleSystem, Range, Range3, RenderSettings,
     Shape, SystemConfig,
@@ -336,7 +336,7 @@ fn size_and_colour_follow_their_curves() {
 
 #[test]
 fn emitters_draw_through_the_device_with_their_states() {
-    use pointillist_core::device::TransformType;
+    use pointillist_core::TransformType;
     use pointillist_core::math::Mat4;
     // Identity transforms: clip space is world space, z in 0..1.
     let mut s = system(vec![Emitter {
@@ -428,8 +428,8 @@ fn sorted_emitters_draw_back_to_front() {
 
 #[test]
 fn sorting_orders_by_distance_from_the_eye() {
-    use pointillist_core::device::{Vertex, XyzPsizeDiffuse};
     use pointillist_core::math::Mat4;
+    use pointillist_core::{Vertex, XyzPsizeDiffuse};
     let mut bytes = Vec::new();
     for (k, z) in [1.0f32, 5.0, 3.0, 5.0].into_iter().enumerate() {
         XyzPsizeDiffuse {

@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pointillist_core::device::RenderTarget;
+use pointillist_core::RenderTarget;
 
 use crate::error::{Origin, SceneError};
 

@@ -40,18 +40,18 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{Backend, Device, DeviceDesc, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 use pointillist_core::texture::Texture;
+use pointillist_core::{Backend, Device, DeviceDesc, TransformType, Viewport};
 use pointillist_particles::{DrawBuffers, Emitter, ParticleSystem, SystemConfig};
 
 pub use case::{Case, Expect, Others, list_cases};
 pub use error::{Origin, SceneError, printable};
 
 /// The largest render target side a scene may ask for, in pixels.
-pub const MAX_TARGET_SIZE: u32 = pointillist_core::device::MAX_TARGET_SIZE;
+pub const MAX_TARGET_SIZE: u32 = pointillist_core::MAX_TARGET_SIZE;
 
 /// The most memory one render may hold, in bytes (docs/spec/PARTICLES.md, limits): the target (its
 /// colour and depth buffers and the RGBA8 copy written out, 12 bytes a pixel), every texture with
@@ -515,9 +515,8 @@ impl Scene {
             device.set_transform(TransformType::View, m);
         }
         for step in &self.steps {
-            let fail = |e: pointillist_core::device::DeviceError| {
-                step.origin.error(&self.file, e.to_string())
-            };
+            let fail =
+                |e: pointillist_core::DeviceError| step.origin.error(&self.file, e.to_string());
             match &step.command {
                 Command::Clear { color, depth } => device.clear(*color, *depth).map_err(fail)?,
                 Command::RenderState(s, v) => device.set_render_state(*s, *v),

@@ -8,13 +8,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pointillist_core::caps::{Caps, VertexProcessing};
-use pointillist_core::device::{MAX_DRAW_VERTICES, TransformType, Viewport};
 use pointillist_core::fvf::{self, Fvf, FvfError, RowValue};
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{
     Api, EnumType, RenderState, SamplerState, TextureStageState, ValueKind, texture_arg_from_name,
 };
 use pointillist_core::texture::{MAX_TEXTURE_SIZE, Texture};
+use pointillist_core::{MAX_DRAW_VERTICES, TransformType, Viewport};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 

@@ -6,13 +6,13 @@ use std::path::Path;
 use std::sync::Arc;
 
 use pointillist_core::caps::{Caps, VertexProcessing};
-use pointillist_core::device::{TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{
     Api, Blend, Cmp, RenderState, SamplerState, TA_COMPLEMENT, TA_TEXTURE, TextureAddress,
     TextureFilter, TextureOp, TextureStageState, ZBufferType,
 };
+use pointillist_core::{TransformType, Viewport};
 
 use crate::{Command, Scene, parse};
 
@@ -729,7 +729,7 @@ fn error_format_syntax_and_structure() {
 /// Replays a small scene on the CPU backend and checks the pixels.
 #[test]
 fn replay_on_the_cpu_backend() {
-    use pointillist_core::device::Device;
+    use pointillist_core::Device;
     use pointillist_cpu::CpuBackend;
 
     let s = parse(
@@ -767,7 +767,7 @@ fn replay_on_the_cpu_backend() {
 /// The example of SCENE.md parses and replays.
 #[test]
 fn the_scene_md_example_loads_and_replays() {
-    use pointillist_core::device::Device;
+    use pointillist_core::Device;
     use pointillist_cpu::CpuBackend;
 
     let s = crate::load(Path::new("tests/data/example.toml")).unwrap_or_else(|e| panic!("{e}"));

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use pointillist_core::device::RenderTarget;
+use pointillist_core::RenderTarget;
 
 use crate::tests::{err, ok};
 use crate::{Others, list_cases};

@@ -106,7 +106,7 @@ fn a_vertex_file_above_the_vertex_limit_is_refused_before_it_is_read() {
     let dir = scratch("vertices");
     // A sparse file: its length says 2^24 + 1 XYZ vertices without taking the disk space.
     let big = std::fs::File::create(dir.join("big.bin")).unwrap();
-    big.set_len((pointillist_core::device::MAX_DRAW_VERTICES as u64 + 1) * 12)
+    big.set_len((pointillist_core::MAX_DRAW_VERTICES as u64 + 1) * 12)
         .unwrap();
     let scene = dir.join("s.toml");
     let e = err_at(

@@ -12,24 +12,31 @@
 //! `POINTILLIST_REQUIRE_GPU=1` (CI sets it), which makes a missing adapter a failure.
 //!
 //! Contract:
-//! - [`draw_tolerance`] is the one place that says how close the GPU must be: exact where no
-//!   filtering or blending arithmetic is involved, 1/255 per channel otherwise (SPEC 7).
+//! - [`draw_tolerance`] says how close the GPU must be (core's table, SPEC 7): exact where no
+//!   filtering or rounding blend is involved, 1/255 per channel otherwise.
 //! - A device's tolerance is the largest of its draws' since its last clear, since a pixel
 //!   keeps the difference an earlier draw left in it.
 //! - Depths are compared by value within 0..=1, the range a WebGPU depth buffer holds, with
 //!   subnormal depths flushed to 0 as GPUs do.
+//!
+//! Where a test needs a given tolerance or GPU context, [`check`], [`check_on`] and their
+//! variants run one scene closure on a fresh CPU and a fresh GPU device and compare them.
 
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
-use pointillist_core::draw::DrawSetup;
+use pointillist_core::DrawSetup;
+use pointillist_core::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_cpu::CpuBackend;
 use pointillist_gpu::{GpuBackend, GpuContext};
 
-pub mod parity;
+mod parity;
+
+pub use parity::{
+    AnyBackend, AnyDevice, check, check_desc, check_on, cpu, gpu, run_on, try_check_on,
+};
 
 /// How close the GPU backend's colours must be to the CPU backend's.
 pub use pointillist_core::tolerance::Tolerance;

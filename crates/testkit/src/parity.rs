@@ -5,10 +5,10 @@
 
 use std::sync::Arc;
 
-use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
+use pointillist_core::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_gpu::{GpuBackend, GpuContext};
 
-pub use crate::{Tolerance, compare, gpu_context};
+use crate::{Tolerance, compare, gpu_context};
 
 /// Any backend, so one closure drives both (core's `Backend for Box<B>`).
 pub type AnyBackend = Box<dyn Backend + Send>;

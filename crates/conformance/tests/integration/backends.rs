@@ -3,17 +3,13 @@
 //! in both CLIPPLANESCALEDPOINTS modes), sprite coordinates, texture-stage operations,
 //! samplers, alpha test, specular, depth test and write, blending, COLORWRITEENABLE.
 //!
-//! Every scene runs on both backends from the same closure (`pointillist_testkit::parity::check`):
+//! Every scene runs on both backends from the same closure (`pointillist_testkit::check`):
 //! exact where no filtering or blending arithmetic is involved, within 1/255 per channel
 //! otherwise.
 
 use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{
-    DeviceDesc, DeviceError, TransformType, Viewport, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse,
-    XyzRhwPsizeDiffuse,
-};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{
@@ -22,8 +18,12 @@ use pointillist_core::states::{
     TextureAddress, TextureFilter, TextureOp, TextureStageState,
 };
 use pointillist_core::texture::Texture;
+use pointillist_core::{
+    DeviceDesc, DeviceError, TransformType, Viewport, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse,
+    XyzRhwPsizeDiffuse,
+};
 use pointillist_gpu::{ContextOptions, GpuContext};
-use pointillist_testkit::parity::{
+use pointillist_testkit::{
     AnyDevice, Tolerance, check, check_desc, check_on, gpu_context, try_check_on,
 };
 

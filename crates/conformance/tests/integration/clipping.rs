@@ -4,10 +4,10 @@ use std::collections::BTreeSet;
 
 use crate::common::*;
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Cmp, RenderState};
+use pointillist_core::{TransformType, Viewport};
 
 type Rs = RenderState;
 

@@ -6,13 +6,13 @@ use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{DeviceDesc, RenderTarget, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{
     Api, RenderState, TA_CURRENT, TA_TEXTURE, TextureOp, TextureStageState,
 };
 use pointillist_core::texture::Texture;
+use pointillist_core::{DeviceDesc, RenderTarget, TransformType, Viewport};
 
 /// The device every test draws on: the CPU backend and, with an adapter, the GPU backend,
 /// compared at each read of the target (`pointillist_testkit`).

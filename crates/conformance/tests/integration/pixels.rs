@@ -1,7 +1,7 @@
 //! SPEC section 5, the pixel pipeline: the rules through the public device API, on both backends.
 
 use crate::common::*;
-use pointillist_core::device::DeviceDesc;
+use pointillist_core::DeviceDesc;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{
     Api, Blend, BlendOp, Cmp, RenderState, SamplerState, TA_ALPHAREPLICATE, TA_COMPLEMENT,

@@ -8,11 +8,11 @@ use std::sync::Arc;
 
 use crate::common::*;
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{DeviceDesc, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
 use pointillist_core::point::{PointScale, clamp_size, scaled_size};
 use pointillist_core::states::{RenderState, SamplerState};
+use pointillist_core::{DeviceDesc, TransformType, Viewport};
 use proptest::prelude::*;
 
 type Rs = RenderState;

@@ -1,7 +1,7 @@
 //! SPEC section 4, rasterization: the rules through the public device API, on both backends.
 
 use crate::common::*;
-use pointillist_core::device::Viewport;
+use pointillist_core::Viewport;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{
     RenderState, TA_CURRENT, TA_SPECULAR, TA_TEXTURE, TextureOp, TextureStageState,

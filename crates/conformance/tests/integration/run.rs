@@ -17,7 +17,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use pointillist_core::device::RenderTarget;
+use pointillist_core::RenderTarget;
 use pointillist_image::png::load_png;
 use pointillist_image::write_png_atomic;
 

@@ -3,8 +3,8 @@
 use std::collections::BTreeSet;
 
 use crate::common::*;
+use pointillist_core::TransformType;
 use pointillist_core::caps::Caps;
-use pointillist_core::device::TransformType;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 

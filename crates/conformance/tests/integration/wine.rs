@@ -14,9 +14,9 @@ use std::sync::Arc;
 
 use crate::common::*;
 use pointillist_core::caps::Caps;
-use pointillist_core::device::{DeviceDesc, RenderTarget, TransformType};
 use pointillist_core::states::{Api, RenderState, TA_CURRENT, TA_TEXTURE, TextureOp};
 use pointillist_core::texture::Texture;
+use pointillist_core::{DeviceDesc, RenderTarget, TransformType};
 
 type Rs = RenderState;
 

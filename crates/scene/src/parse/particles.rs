@@ -729,7 +729,7 @@ impl Parser<'_> {
         if let Some(v) = f.get("time_step") {
             let path = f.path("time_step");
             let h = positive(src, v, &path)?;
-            if h > pointillist_particles::system::MAX_TIME_STEP {
+            if h > pointillist_particles::MAX_TIME_STEP {
                 return Err(src.error(&v.span(), &path, format!("{h} is above 1 second")));
             }
             a.time_step = h;
