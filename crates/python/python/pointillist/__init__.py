@@ -1,0 +1,143 @@
+"""Exact Direct3D 9 point sprites from numpy.
+
+pointillist draws points the way a Direct3D 9 device draws a point list, pixel for pixel, on
+the CPU (or the GPU), with no Direct3D and no display:
+
+- :func:`points` draws millions of sized, coloured, blended points from numpy arrays in one
+  call and returns the image as an ``(height, width, 4)`` uint8 RGBA array;
+- :class:`Device` is the D3D9 device itself (render states, texture stages, samplers,
+  transforms, viewport, clip planes, ``draw_points``);
+- :func:`render_scene` and :func:`animate` draw scene files (docs/spec/SCENE.md) as the
+  ``pointillist`` command line does;
+- :mod:`pointillist.dask` draws a Dask DataFrame on a cluster, bit for bit as :func:`points`
+  draws all its rows at once.
+
+Example::
+
+    import numpy as np, pointillist
+    rng = np.random.default_rng(0)
+    x, y = rng.normal(size=(2, 1_000_000)).astype(np.float32)
+    img = pointillist.points(x, y, width=800, height=600, color=0xFF102040,
+                             x_range=(-4, 4), y_range=(-3, 3))
+
+Errors raise ``ValueError``/``TypeError`` (bad arguments: dtypes, shapes, NaNs, lengths),
+:class:`Error` (a call the device refuses) or :class:`SceneError` (a scene file), each with
+the one-line message the command line prints.
+"""
+
+from . import _native
+from ._image import Image
+from ._native import Device, Error, SceneError, lanes
+
+__all__ = [
+    "Device",
+    "Error",
+    "Image",
+    "SceneError",
+    "animate",
+    "lanes",
+    "points",
+    "render_scene",
+]
+
+
+def points(
+    x,
+    y,
+    *,
+    size=1.0,
+    color=0xFFFFFFFF,
+    z=None,
+    width,
+    height,
+    blend="add",
+    x_range=None,
+    y_range=None,
+    clear=0xFF000000,
+    texture=None,
+    backend="cpu",
+):
+    """Draw one point sprite per row of ``x, y`` and return the image.
+
+    Each point is a pre-transformed Direct3D 9 vertex (D3DFVF_XYZRHW) drawn as a square of
+    side ``size`` pixels centred on its position (docs/spec/SPEC.md 4.1: pixel ``(i, j)`` is
+    covered when ``X - S/2 <= i < X + S/2`` and likewise for ``j``), in row order, onto a
+    ``width`` x ``height`` target cleared to ``clear``. The result is the same, bit for bit,
+    as the same vertices and render states drawn from a scene file by ``pointillist render``.
+
+    Parameters
+    ----------
+    x, y : 1-D arrays of real numbers
+        Positions. With ``x_range``/``y_range``, data coordinates mapped by
+        ``X = (x - x_lo) * (width / (x_hi - x_lo)) - 0.5`` and
+        ``Y = (y_hi - y) * (height / (y_hi - y_lo)) - 0.5`` (y upwards; computed in float64,
+        rounded once to float32); without them, pixel coordinates (pixel centres at integers,
+        y downwards). C-contiguous float32 and float64 arrays are read in place, without a
+        copy; other dtypes are converted once.
+    size : float or 1-D array, default 1.0
+        Side of each square in pixels, exact (not rounded; a square covering no pixel centre
+        draws nothing), clamped to 0..8192.
+    color : int, 1-D uint32 array or (n, 4) uint8 array, default 0xFFFFFFFF
+        D3DCOLORs 0xAARRGGBB, or RGBA bytes per point; read in place.
+    z : 1-D array or None
+        Depths in 0..1 for the depth test (LESSEQUAL, depth written): the nearest point wins
+        whatever the order. Points outside 0..1 are clipped, as Direct3D clips them.
+    width, height : int
+        The target's size in pixels (1..16384).
+    blend : {"add", "alpha", "max", "replace"}
+        "add": ONE/ONE, channels add and saturate; "alpha": SRCALPHA/INVSRCALPHA; "max":
+        BLENDOP MAX; "replace": no blending, the last point wins.
+    x_range, y_range : (lo, hi) or None
+        The data interval the target shows along each axis.
+    clear : int, default 0xFF000000
+        The D3DCOLOR the target starts as (opaque black).
+    texture : (h, w, 4) uint8 array or None
+        An RGBA texture every point shows as a point sprite (POINTSPRITEENABLE), multiplied by
+        the point's colour and alpha, filtered linearly, clamped at its edges.
+    backend : {"cpu", "gpu"}
+        "cpu" is the reference; "gpu" draws with wgpu where the build has it.
+
+    Returns
+    -------
+    Image
+        An ``(height, width, 4)`` uint8 RGBA array (a ``numpy.ndarray`` subclass that shows
+        itself as a picture in Jupyter), rows top to bottom.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For mismatched lengths, NaN positions, depths or sizes (naming the first row), arrays
+        of the wrong dimension or dtype, bad ranges, unknown blends.
+    pointillist.Error
+        When the device refuses the target (its size).
+
+    The GIL is released while the points are drawn.
+    """
+    return _native.points(
+        x,
+        y,
+        size=size,
+        color=color,
+        z=z,
+        width=width,
+        height=height,
+        blend=blend,
+        x_range=x_range,
+        y_range=y_range,
+        clear=clear,
+        texture=texture,
+        backend=backend,
+    )
+
+
+render_scene = _native.render_scene
+
+
+def animate(path, out, *, frames=None, backend="cpu"):
+    """Render every frame of a scene's ``[animation]`` to ``out``, as ``pointillist animate``
+    does: an animated GIF (``.gif``), an APNG of the exact RGBA bytes (``.png``/``.apng``), a
+    numbered PNG sequence (a name with ``%d``, e.g. ``frames/f_%04d.png``) or H.264 through
+    ffmpeg (``.mp4``). ``frames`` renders only the first ``frames`` frames. A single output
+    file is written whole or not at all. Errors raise :class:`SceneError` with the command
+    line's message."""
+    return _native.animate(str(path), str(out), frames=frames, backend=backend)

@@ -1,0 +1,380 @@
+//! `pointillist._native`: the native module of the `pointillist` Python package.
+//!
+//! The public API is `pointillist.points`, `pointillist.Device`, `pointillist.render_scene`,
+//! `pointillist.animate` and `pointillist.dask.points`; the functions whose names start with
+//! an underscore are the steps `pointillist.dask` runs on the workers. Everything is drawn by
+//! `pointillist-plot` and `pointillist-core`'s device; this crate only turns Python arguments
+//! into their types and their errors into exceptions.
+
+mod arrays;
+mod backend;
+mod device;
+mod errors;
+mod scene;
+
+use std::sync::Arc;
+
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use pointillist_plot::tiles::Tiles;
+use pointillist_plot::{Blend, DataRange, Layout, Plot, Points};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use arrays::{ColorArg, SizeArg, colors, column, d3dcolor, sizes};
+use errors::plot_error;
+
+/// `rgba` (`height * width * 4` bytes, rows top to bottom) as a `pointillist.Image`, the
+/// `(height, width, 4)` uint8 ndarray that shows itself in Jupyter; the bytes are not copied.
+pub(crate) fn image<'py>(
+    py: Python<'py>,
+    rgba: Vec<u8>,
+    width: u32,
+    height: u32,
+) -> PyResult<Bound<'py, PyAny>> {
+    let array = PyArray1::from_vec(py, rgba).reshape([height as usize, width as usize, 4])?;
+    let class = py.import("pointillist._image")?.getattr("Image")?;
+    array.call_method1("view", (class,))
+}
+
+/// A data range argument: `None` or two numbers.
+fn data_range(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<DataRange>> {
+    let Some(obj) = obj else { return Ok(None) };
+    let (lo, hi): (f64, f64) = obj.extract().map_err(|_| {
+        PyValueError::new_err(format!("{name} must be None or two numbers (lo, hi)"))
+    })?;
+    Ok(Some(DataRange { lo, hi }))
+}
+
+/// The `Plot` of the keyword arguments every drawing function takes.
+#[allow(clippy::too_many_arguments)]
+fn plot(
+    width: u32,
+    height: u32,
+    blend: &str,
+    x_range: Option<&Bound<'_, PyAny>>,
+    y_range: Option<&Bound<'_, PyAny>>,
+    clear: &Bound<'_, PyAny>,
+    texture: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Plot> {
+    Ok(Plot {
+        width,
+        height,
+        blend: Blend::from_name(blend).map_err(plot_error)?,
+        clear: d3dcolor("clear", clear)?,
+        x_range: data_range("x_range", x_range)?,
+        y_range: data_range("y_range", y_range)?,
+        texture: texture
+            .map(|t| arrays::texture("texture", t).map(Arc::new))
+            .transpose()?,
+    })
+}
+
+/// The columns of a call, held (borrowed in place or converted once) for its length.
+struct Held<'py> {
+    x: arrays::ColumnArray<'py>,
+    y: arrays::ColumnArray<'py>,
+    z: Option<arrays::ColumnArray<'py>>,
+    size: SizeArg<'py>,
+    color: ColorArg<'py>,
+}
+
+impl<'py> Held<'py> {
+    fn new(
+        x: &Bound<'py, PyAny>,
+        y: &Bound<'py, PyAny>,
+        z: Option<&Bound<'py, PyAny>>,
+        size: &Bound<'py, PyAny>,
+        color: &Bound<'py, PyAny>,
+    ) -> PyResult<Self> {
+        Ok(Held {
+            x: column("x", x)?,
+            y: column("y", y)?,
+            z: z.map(|z| column("z", z)).transpose()?,
+            size: sizes(size)?,
+            color: colors(color)?,
+        })
+    }
+
+    fn points(&self) -> Points<'_> {
+        Points {
+            x: self.x.column(),
+            y: self.y.column(),
+            z: self.z.as_ref().map(|z| z.column()),
+            size: self.size.sizes(),
+            color: self.color.colors(),
+        }
+    }
+}
+
+/// Draws points from numpy arrays; see `pointillist.points` for the full description.
+#[pyfunction]
+#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, clear, texture, backend))]
+#[allow(clippy::too_many_arguments)]
+fn points<'py>(
+    py: Python<'py>,
+    x: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
+    size: &Bound<'py, PyAny>,
+    color: &Bound<'py, PyAny>,
+    z: Option<&Bound<'py, PyAny>>,
+    width: u32,
+    height: u32,
+    blend: &str,
+    x_range: Option<&Bound<'py, PyAny>>,
+    y_range: Option<&Bound<'py, PyAny>>,
+    clear: &Bound<'py, PyAny>,
+    texture: Option<&Bound<'py, PyAny>>,
+    backend: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let held = Held::new(x, y, z, size, color)?;
+    let points = held.points();
+    let rgba = if backend == "cpu" {
+        py.detach(|| plot.render(&points)).map_err(plot_error)?
+    } else {
+        let backend = backend::backend(backend)?;
+        py.detach(|| -> Result<Vec<u8>, pointillist_plot::PlotError> {
+            plot.check(&points)?;
+            let size = (plot.width, plot.height);
+            let mut device = plot.device(backend, &points.layout(), size, None)?;
+            plot.draw(&mut device, &points)?;
+            Ok(device.read_target()?.to_rgba8())
+        })
+        .map_err(plot_error)?
+    };
+    image(py, rgba, width, height)
+}
+
+/// The partial image of one part of a draw whose blend commutes: the points drawn onto a
+/// zero target (`Plot::partial`).
+#[pyfunction]
+#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, texture))]
+#[allow(clippy::too_many_arguments)]
+fn _partial<'py>(
+    py: Python<'py>,
+    x: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
+    size: &Bound<'py, PyAny>,
+    color: &Bound<'py, PyAny>,
+    width: u32,
+    height: u32,
+    blend: &str,
+    x_range: Option<&Bound<'py, PyAny>>,
+    y_range: Option<&Bound<'py, PyAny>>,
+    texture: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let zero = 0u32.into_pyobject(py)?.into_any();
+    let plot = plot(width, height, blend, x_range, y_range, &zero, texture)?;
+    if !plot.blend.commutes() {
+        return Err(PyValueError::new_err(format!(
+            "blend \"{blend}\" depends on the order of the points; draw it by tiles"
+        )));
+    }
+    let held = Held::new(x, y, None, size, color)?;
+    let points = held.points();
+    let rgba = py.detach(|| plot.render(&points)).map_err(plot_error)?;
+    image(py, rgba, width, height)
+}
+
+/// A slice of an array checked to be C-contiguous, or the error saying it is not.
+pub(crate) fn contiguous<T>(r: Result<T, numpy::AsSliceError>) -> PyResult<T> {
+    r.map_err(|_| PyValueError::new_err("the array must be C-contiguous and aligned"))
+}
+
+/// An RGBA8 image argument as a mutable or shared byte slice of `len` bytes.
+fn rgba_bytes<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+    let a = obj
+        .cast::<numpy::PyArray3<u8>>()
+        .map_err(|_| PyValueError::new_err(format!("{name} must be an (h, w, 4) uint8 array")))?;
+    if !a.is_c_contiguous() || a.shape()[2] != 4 {
+        return Err(PyValueError::new_err(format!(
+            "{name} must be a C-contiguous (h, w, 4) uint8 array"
+        )));
+    }
+    Ok(a.clone())
+}
+
+/// Combines partial image `src` into `dst` (in place) with the exact operator of `blend`
+/// (`Blend::combine`: 8-bit saturating addition for "add", maximum for "max").
+#[pyfunction]
+fn _combine(dst: &Bound<'_, PyAny>, src: &Bound<'_, PyAny>, blend: &str) -> PyResult<()> {
+    let blend = Blend::from_name(blend).map_err(plot_error)?;
+    let dst = rgba_bytes("dst", dst)?;
+    let src = rgba_bytes("src", src)?;
+    let src = src.try_readonly()?;
+    let mut dst = dst.try_readwrite()?;
+    blend
+        .combine(contiguous(dst.as_slice_mut())?, contiguous(src.as_slice())?)
+        .map_err(plot_error)
+}
+
+/// Combines the clear colour into the combined partial images `rgba` (in place)
+/// (`Plot::finish`).
+#[pyfunction]
+fn _finish(rgba: &Bound<'_, PyAny>, blend: &str, clear: &Bound<'_, PyAny>) -> PyResult<()> {
+    let plot = Plot {
+        blend: Blend::from_name(blend).map_err(plot_error)?,
+        clear: d3dcolor("clear", clear)?,
+        ..Plot::new(1, 1)
+    };
+    let a = rgba_bytes("rgba", rgba)?;
+    let mut a = a.try_readwrite()?;
+    plot.finish(contiguous(a.as_slice_mut())?)
+        .map_err(plot_error)
+}
+
+/// The tiles of a `width` x `height` target: a list of `(x0, y0, x1, y1)`, row by row.
+#[pyfunction]
+fn _tiles(
+    width: u32,
+    height: u32,
+    tile_width: u32,
+    tile_height: u32,
+) -> PyResult<Vec<(i32, i32, i32, i32)>> {
+    let tiles = Tiles::new(width, height, tile_width, tile_height).map_err(plot_error)?;
+    Ok((0..tiles.len())
+        .map(|i| {
+            let r = tiles.rect(i);
+            (r.x0, r.y0, r.x1, r.y1)
+        })
+        .collect())
+}
+
+/// One tile's vertices and indices as arrays.
+type TileArrays<'py> = (Bound<'py, PyAny>, Bound<'py, PyArray1<u64>>);
+
+/// Sends one part of the points (global indices from `first_index`) to the tiles their
+/// squares overlap (`Plot::bin`): a list with one `(vertices, index)` pair of arrays per
+/// tile, `vertices` `(k, words)` uint32 (one row a vertex), `index` `(k,)` uint64.
+#[pyfunction]
+#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, first_index, tile_width, tile_height))]
+#[allow(clippy::too_many_arguments)]
+fn _bin<'py>(
+    py: Python<'py>,
+    x: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
+    size: &Bound<'py, PyAny>,
+    color: &Bound<'py, PyAny>,
+    z: Option<&Bound<'py, PyAny>>,
+    width: u32,
+    height: u32,
+    blend: &str,
+    x_range: Option<&Bound<'py, PyAny>>,
+    y_range: Option<&Bound<'py, PyAny>>,
+    first_index: u64,
+    tile_width: u32,
+    tile_height: u32,
+) -> PyResult<Vec<TileArrays<'py>>> {
+    let zero = 0u32.into_pyobject(py)?.into_any();
+    let plot = plot(width, height, blend, x_range, y_range, &zero, None)?;
+    let tiles = Tiles::new(width, height, tile_width, tile_height).map_err(plot_error)?;
+    let held = Held::new(x, y, z, size, color)?;
+    let points = held.points();
+    let bins = py
+        .detach(|| plot.bin(&points, first_index, &tiles))
+        .map_err(plot_error)?;
+    let stride = points.layout().stride();
+    bins.into_iter()
+        .map(|b| {
+            let rows = b.index.len();
+            let vertices = PyArray1::from_vec(py, b.vertices).reshape([rows, stride])?;
+            Ok((vertices.into_any(), PyArray1::from_vec(py, b.index)))
+        })
+        .collect()
+}
+
+/// Draws one tile (`Plot::render_tile`): `vertices` (a C-contiguous uint32 array of the
+/// words of the layout that `depth` and `size` give, in index order) on a target cleared to
+/// `clear` whose viewport is `rect`; returns the tile's `(h, w, 4)` RGBA.
+#[pyfunction]
+#[pyo3(signature = (vertices, rect, *, size, depth, width, height, blend, clear, texture))]
+#[allow(clippy::too_many_arguments)]
+fn _render_tile<'py>(
+    py: Python<'py>,
+    vertices: &Bound<'py, PyAny>,
+    rect: (i32, i32, i32, i32),
+    size: Option<f32>,
+    depth: bool,
+    width: u32,
+    height: u32,
+    blend: &str,
+    clear: &Bound<'py, PyAny>,
+    texture: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let plot = plot(width, height, blend, None, None, clear, texture)?;
+    let layout = Layout { depth, size };
+    let words: numpy::PyReadonlyArrayDyn<'_, u32> = match arrays::in_place(vertices)? {
+        Some(a) => a,
+        None => arrays::required(vertices, "uint32")?,
+    };
+    let words = arrays::slice(&words);
+    if !words.len().is_multiple_of(layout.stride()) {
+        return Err(PyValueError::new_err(format!(
+            "{} vertex words are not whole vertices of {} words",
+            words.len(),
+            layout.stride()
+        )));
+    }
+    let (x0, y0, x1, y1) = rect;
+    let r = pointillist_core::point::PixelRect { x0, y0, x1, y1 };
+    let rgba = py
+        .detach(|| plot.render_tile(&layout, words, r))
+        .map_err(plot_error)?;
+    image(py, rgba, (x1 - x0).max(0) as u32, (y1 - y0).max(0) as u32)
+}
+
+/// Encodes an `(h, w, 4)` uint8 RGBA array as PNG bytes.
+#[pyfunction]
+fn _encode_png<'py>(
+    py: Python<'py>,
+    rgba: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+    let a = rgba_bytes("image", rgba)?;
+    let (h, w) = (a.shape()[0] as u32, a.shape()[1] as u32);
+    let a = a.try_readonly()?;
+    let png = pointillist_image::png::encode_png_rgba8(w, h, contiguous(a.as_slice())?)
+        .map_err(|e| errors::Error::new_err(e.to_string()))?;
+    Ok(pyo3::types::PyBytes::new(py, &png))
+}
+
+/// Writes an `(h, w, 4)` uint8 RGBA array as a PNG file, atomically (as `pointillist render`
+/// writes its output: an existing file is replaced only by a complete one).
+#[pyfunction]
+fn _save_png(py: Python<'_>, path: std::path::PathBuf, rgba: &Bound<'_, PyAny>) -> PyResult<()> {
+    let a = rgba_bytes("image", rgba)?;
+    let (h, w) = (a.shape()[0] as u32, a.shape()[1] as u32);
+    let a = a.try_readonly()?;
+    let bytes = contiguous(a.as_slice())?;
+    py.detach(|| pointillist_image::write_png_atomic(&path, w, h, bytes))
+        .map_err(|e| errors::Error::new_err(format!("cannot write {}: {e}", path.display())))
+}
+
+/// The vector level the CPU backend's wide spans run on ("avx512", "avx2" or "portable").
+#[pyfunction]
+fn lanes() -> &'static str {
+    pointillist_cpu::lanes()
+}
+
+#[pymodule]
+#[pyo3(name = "_native")]
+fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("Error", py.get_type::<errors::Error>())?;
+    m.add("SceneError", py.get_type::<errors::SceneError>())?;
+    m.add_class::<device::PyDevice>()?;
+    m.add_function(wrap_pyfunction!(points, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::render_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(lanes, m)?)?;
+    m.add_function(wrap_pyfunction!(_partial, m)?)?;
+    m.add_function(wrap_pyfunction!(_combine, m)?)?;
+    m.add_function(wrap_pyfunction!(_finish, m)?)?;
+    m.add_function(wrap_pyfunction!(_tiles, m)?)?;
+    m.add_function(wrap_pyfunction!(_bin, m)?)?;
+    m.add_function(wrap_pyfunction!(_render_tile, m)?)?;
+    m.add_function(wrap_pyfunction!(_encode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(_save_png, m)?)?;
+    Ok(())
+}

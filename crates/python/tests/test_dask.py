@@ -1,0 +1,118 @@
+"""`pointillist.dask.points` on a two-process LocalCluster gives `pointillist.points` on all the
+rows in order, bit for bit: partial images reduced for "add" and "max", screen tiles for every
+order-dependent draw; with points that overlap across partitions and tiles."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+dd = pytest.importorskip("dask.dataframe")
+distributed = pytest.importorskip("distributed")
+
+import pointillist  # noqa: E402
+import pointillist.dask  # noqa: E402
+
+W, H = 120, 90
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    )
+    with distributed.Client(cluster) as c:
+        yield c
+    cluster.close()
+
+
+def frame(n, seed, partitions):
+    """Points crowded into the middle of the target (every pixel there is hit by points of
+    several partitions and many squares straddle tile edges), fractional sizes and
+    positions, colours of every alpha, depths."""
+    rng = np.random.default_rng(seed)
+    pdf = pd.DataFrame(
+        {
+            "x": rng.normal(0.5, 0.15, n),
+            "y": rng.normal(0.5, 0.15, n).astype(np.float32),
+            "s": rng.uniform(0.5, 7.5, n).astype(np.float32),
+            "c": rng.integers(0, 2**32, n, dtype=np.uint32),
+            "z": rng.uniform(0, 1, n).astype(np.float32),
+        }
+    )
+    return pdf, dd.from_pandas(pdf, npartitions=partitions, sort=False)
+
+
+def both(pdf, df, client, **kw):
+    """(dask result, pointillist.points on all rows)."""
+    cols = {k: kw.pop(k) for k in ("size", "color", "z") if isinstance(kw.get(k), str)}
+    tiling = {k: kw.pop(k) for k in ("tile_size",) if k in kw}
+    got = pointillist.dask.points(df, "x", "y", client=client, **cols, **tiling, **kw)
+    args = {k: pdf[c].to_numpy() for k, c in cols.items()}
+    want = pointillist.points(pdf["x"].to_numpy(), pdf["y"].to_numpy(), **args, **kw)
+    return got, want
+
+
+def test_the_cluster_has_two_worker_processes(client):
+    workers = client.scheduler_info()["workers"]
+    assert len(workers) == 2
+    pids = client.run(lambda: __import__("os").getpid())
+    assert len(set(pids.values())) == 2
+
+
+@pytest.mark.parametrize("blend", ["add", "max"])
+def test_reduced_partial_images_equal_one_sequential_draw(client, blend):
+    pdf, df = frame(60_000, 1, 7)
+    got, want = both(
+        pdf, df, client, size="s", color="c", blend=blend, width=W, height=H,
+        x_range=(0, 1), y_range=(0, 1), clear=0xFF304050,
+    )
+    assert isinstance(got, pointillist.Image)
+    assert np.array_equal(got, want)
+    if blend == "add":
+        # Saturation happened (the reduction's clamp is exercised) and the middle got
+        # contributions from every partition.
+        assert (want[..., :3] == 255).mean() > 0.2
+    # The clear colour is combined once: a second combination would show where no point is.
+    assert want[0, 0].tolist() == [0x30, 0x40, 0x50, 0xFF]
+
+
+@pytest.mark.parametrize(
+    "blend,depth,tile", [("alpha", False, 16), ("replace", False, 25), ("add", True, 31),
+                         ("alpha", True, 64)]
+)
+def test_tiles_equal_one_sequential_draw(client, blend, depth, tile):
+    pdf, df = frame(30_000, 2, 5)
+    got, want = both(
+        pdf, df, client, size="s", color="c", z="z" if depth else None, blend=blend,
+        width=W, height=H, x_range=(0, 1), y_range=(0, 1), tile_size=tile,
+    )
+    assert np.array_equal(got, want)
+    assert len(np.unique(want.reshape(-1, 4), axis=0)) > 500
+
+
+def test_constant_size_colour_and_texture(client):
+    pdf, df = frame(20_000, 3, 4)
+    tex = np.random.default_rng(7).integers(0, 256, (6, 5, 4), dtype=np.uint8)
+    for blend in ("add", "alpha"):
+        got, want = both(
+            pdf, df, client, size=5.5, color=0x80FF8040, blend=blend, width=W, height=H,
+            x_range=(0, 1), y_range=(0, 1), texture=tex, tile_size=(40, 17),
+        )
+        assert np.array_equal(got, want), blend
+
+
+def test_errors_name_the_argument(client):
+    pdf, df = frame(100, 4, 2)
+    with pytest.raises(ValueError, match=r"column 'w' is not in the DataFrame"):
+        pointillist.dask.points(df, "w", "y", width=8, height=8, client=client)
+    with pytest.raises(ValueError, match="unknown blend"):
+        pointillist.dask.points(df, width=8, height=8, blend="over", client=client)
+    with pytest.raises(ValueError, match="x_range"):
+        pointillist.dask.points(df, width=8, height=8, x_range=(1, 0), client=client)
+    bad = pdf.copy()
+    bad.loc[60, "x"] = np.nan
+    bdf = dd.from_pandas(bad, npartitions=2, sort=False)
+    with pytest.raises(ValueError, match=r"partition 1: x\[10\] is NaN"):
+        pointillist.dask.points(bdf, width=8, height=8, client=client)
+    with pytest.raises(ValueError, match=r"partition 1: x\[10\] is NaN"):
+        pointillist.dask.points(bdf, width=8, height=8, blend="alpha", client=client)
