@@ -76,9 +76,9 @@ pub const MAX_STEPS_PER_FRAME: u64 = 1 << 20;
 pub const MAX_SIMULATION_STEPS: u64 = 1 << 24;
 
 /// Bytes an emitter of `max_particles` holds: its storage is whole blocks of
-/// [`pointillist_particles::system::BLOCK`] particles, [`PARTICLE_BYTES`] each.
+/// [`pointillist_particles::BLOCK`] particles, [`PARTICLE_BYTES`] each.
 pub fn emitter_bytes(max_particles: usize) -> u64 {
-    let block = pointillist_particles::system::BLOCK;
+    let block = pointillist_particles::BLOCK;
     (max_particles.div_ceil(block) * block) as u64 * PARTICLE_BYTES
 }
 

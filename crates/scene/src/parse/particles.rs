@@ -607,7 +607,7 @@ impl Parser<'_> {
         };
         // A turbulent emitter also holds its noise lattice.
         let noise = if e.turbulence.strength > 0.0 {
-            (pointillist_particles::noise::NOISE_PERIOD.pow(3) * 16) as u64
+            (pointillist_particles::NOISE_PERIOD.pow(3) * 16) as u64
         } else {
             0
         };
