@@ -456,6 +456,7 @@ fn one_line(err: &clap::Error) -> String {
 }
 
 fn main() -> ExitCode {
+    backend::quiet_device_select();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(err) => {
