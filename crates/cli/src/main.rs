@@ -15,7 +15,10 @@ mod backend;
 mod bench;
 mod caps;
 mod conform;
+mod interrupt;
 mod render;
+mod report;
+mod threads;
 #[cfg(feature = "viewer")]
 mod view;
 
@@ -56,8 +59,10 @@ Render a scene file to an RGBA8 PNG of the render target.
 Creates the device the scene's [target] and [caps] describe, issues its calls in order
 (SetRenderState, SetTextureStageState, SetSamplerState, SetTexture, SetTransform, SetViewport,
 SetClipPlane, SetMaterial, SetLight, LightEnable, DrawPrimitiveUP(D3DPT_POINTLIST)), reads the
-A8R8G8B8 target back and writes its exact bytes, alpha included, as an RGBA8 PNG. OUT is
-replaced atomically: on any error an existing OUT is left untouched.
+A8R8G8B8 target back and writes its exact bytes, alpha included, as an RGBA8 PNG. OUT must end
+in .png; it is replaced atomically: on any error, Ctrl-C, SIGTERM or SIGHUP (exit status 130) an
+existing OUT is left untouched. OUT is never the scene or a file it reads, nor anything but a
+regular file (a symbolic link is followed); an existing OUT keeps its permissions.
 
 States that have no effect on points (D3DRS_CULLMODE, D3DRS_STENCILENABLE, ...) are accepted and
 reported once each as a warning on standard error. Untransformed points are lit as on D3D9
@@ -242,9 +247,11 @@ orbit or path) at k / fps seconds. The format follows OUT's name, or --format:
   .png, .apng     APNG: every frame's exact RGBA8 bytes
   name with %d    numbered PNGs, e.g. frames/snow_%04d.png (frame 0 first)
   .mp4            H.264 through ffmpeg, which must be installed (found on PATH)
-A single file is written beside OUT under a temporary name and renamed over OUT when every
-frame is in: an error or Ctrl-C (exit status 130) leaves no partial file and an existing OUT
-untouched. A progress bar with an ETA is drawn on standard error when it is a terminal.";
+OUT is written under a temporary name beside it and put in place when every frame is in (a
+sequence's frames all together): an error, Ctrl-C, SIGTERM or SIGHUP (exit status 130) leaves
+no partial file and existing files untouched. OUT is never the scene or a file it reads, nor
+anything but a regular file (a symbolic link is followed); an existing OUT keeps its
+permissions. A progress bar with an ETA is drawn on standard error when it is a terminal.";
 
 /// Examples shown at the end of `pointillist animate --help`.
 const ANIMATE_EXAMPLES: &str = "\
@@ -451,6 +458,7 @@ fn one_line(err: &clap::Error) -> String {
 }
 
 fn main() -> ExitCode {
+    backend::quiet_device_select();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(err) => {
@@ -468,24 +476,21 @@ fn main() -> ExitCode {
                     ExitCode::from(2)
                 }
                 _ => {
-                    eprintln!("{}", one_line(&err));
+                    eprintln!("{}", report::printable(&one_line(&err)));
                     ExitCode::from(2)
                 }
             };
         }
     };
+    if let Err(message) = interrupt::install().and_then(|()| threads::start()) {
+        report::error(&message);
+        return ExitCode::FAILURE;
+    }
     let result = match &cli.command {
         Command::Render(args) => render::run(args),
         Command::Caps(args) => caps::run(args),
         Command::Bench(args) => bench::run(args),
-        Command::Animate(args) => match animate::run(args) {
-            Ok(()) => Ok(()),
-            Err(animate::Failure::Error(message)) => Err(message),
-            Err(animate::Failure::Interrupted) => {
-                eprintln!("interrupted: no output written");
-                return ExitCode::from(animate::INTERRUPTED);
-            }
-        },
+        Command::Animate(args) => animate::run(args),
         Command::View(args) => view(args),
         Command::ExportCalls(args) => conform::run_export(args),
         Command::Conform(args) => return conform::run_conform(args),
@@ -493,13 +498,8 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
-            // A message is one line by contract; fold any stray line break a library put in.
-            let message: Vec<&str> = message
-                .lines()
-                .map(str::trim)
-                .filter(|l| !l.is_empty())
-                .collect();
-            eprintln!("error: {}", message.join("; "));
+            interrupt::wait_if_ending();
+            report::error(&message);
             ExitCode::FAILURE
         }
     }

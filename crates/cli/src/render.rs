@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use pointillist_core::Device;
-use pointillist_image::ImageError;
+use pointillist_image::output::Destination;
 
 use crate::{RenderArgs, backend};
 
@@ -13,6 +13,7 @@ use crate::{RenderArgs, backend};
 /// the one-line reason is returned and an existing output file is left as it was.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
+    let dest = check_output(&args.output, &scene.inputs)?;
     let scene_name = args.scene.display();
     let mut device = Device::new(backend::create(args.backend)?, scene.device_desc())
         .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
@@ -38,14 +39,10 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let target = device
         .read_target()
         .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
-    write_png(
-        &args.output,
-        target.width,
-        target.height,
-        &target.to_rgba8(),
-    )?;
+    dest.write_png(target.width, target.height, &target.to_rgba8())
+        .map_err(|e| e.to_string())?;
     for notice in device.take_notices() {
-        eprintln!("warning: {scene_name}: {notice}");
+        crate::report::warning(&format!("{scene_name}: {notice}"));
     }
     let draws = scene.draw_count();
     let what = match particles {
@@ -57,17 +54,25 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     };
     println!(
         "wrote {} ({}x{}, {what})",
-        args.output.display(),
+        crate::report::printable(&args.output.display().to_string()),
         target.width,
         target.height,
     );
     Ok(())
 }
 
-/// Writes the PNG atomically; the error names the output file once.
-fn write_png(out: &Path, width: u32, height: u32, rgba: &[u8]) -> Result<(), String> {
-    pointillist_image::write_png_atomic(out, width, height, rgba).map_err(|e| match e {
-        ImageError::File { .. } => e.to_string(),
-        _ => format!("cannot write {}: {e}", out.display()),
-    })
+/// Checks OUT before the render: a `.png` name (any case) that may be written
+/// ([`Destination::check`]: not one of the scene's files, a regular file if it exists).
+fn check_output(out: &Path, inputs: &[std::path::PathBuf]) -> Result<Destination, String> {
+    let dest = Destination::check(out, inputs).map_err(|e| e.to_string())?;
+    let png = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !png {
+        return Err(format!(
+            "{}: render writes a PNG file; name the output OUT.png",
+            out.display()
+        ));
+    }
+    Ok(dest)
 }

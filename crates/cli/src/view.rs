@@ -373,7 +373,7 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         {
             Ok(d) => (d, "gpu"),
             Err(e) => {
-                eprintln!("warning: {e}; drawing on the CPU backend");
+                crate::report::warning(&format!("{e}; drawing on the CPU backend"));
                 (cpu()?, "cpu")
             }
         },

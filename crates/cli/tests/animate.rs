@@ -1,12 +1,10 @@
 //! `pointillist animate`, `render --frame` and `view` as a user meets them: the files written in
-//! every format, their frame counts, determinism, errors, and Ctrl-C leaving nothing behind.
+//! every format, their frame counts, determinism and errors (signals: `hostile.rs`).
 
 mod common;
 
 use std::fs;
 use std::path::Path;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
 
 use common::{TempDir, command, path_arg, pointillist, stderr};
 
@@ -201,51 +199,6 @@ fn animate_and_render_refuse_bad_requests_in_one_line() {
         assert_eq!(err.lines().count(), 1, "{err}");
     }
     assert_eq!(dir.listing(), ["f.toml"]);
-}
-
-#[test]
-#[cfg(unix)]
-fn ctrl_c_leaves_no_partial_file() {
-    let dir = TempDir::new("interrupt");
-    // Many large frames: the render is still going when SIGINT arrives.
-    let scene = dir.write(
-        "slow.toml",
-        &SCENE
-            .replace("width = 64", "width = 1024")
-            .replace("height = 36", "height = 576")
-            .replace("frames = 4", "frames = 100000"),
-    );
-    let out = dir.path("slow.gif");
-    fs::write(&out, b"previous").unwrap();
-    let child = command()
-        .args(["animate", path_arg(&scene), "-o", path_arg(&out)])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Wait until the temporary file exists: frames are being written.
-    let start = Instant::now();
-    while !dir.listing().iter().any(|n| n.contains(".tmp-")) {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no temporary file appeared"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let o = child.wait_with_output().unwrap();
-    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
-    assert!(stderr(&o).contains("interrupted: no output written"));
-    assert_eq!(dir.listing(), ["slow.gif", "slow.toml"]);
-    assert_eq!(
-        fs::read(&out).unwrap(),
-        b"previous",
-        "the old output is untouched"
-    );
 }
 
 /// The first `count` frames of the PNG or APNG at `path`, as RGBA8 bytes.

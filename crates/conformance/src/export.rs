@@ -405,7 +405,8 @@ pub fn export(scene: &Scene, caps: Caps, frame: Option<u32>) -> Result<Exported,
             system.advance_to(scene.animation.sim_time(frame));
             let view = scene
                 .animation
-                .view_at(f64::from(frame) / f64::from(scene.animation.fps));
+                .view_at(f64::from(frame) / f64::from(scene.animation.fps))
+                .map_err(|e| format!("{name}: {e}"))?;
             write_steps(device.backend_mut(), scene, view);
             scene
                 .replay_with_view(&mut device, view)

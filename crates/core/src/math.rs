@@ -36,6 +36,43 @@ fn normalize3(a: [f32; 3]) -> [f32; 3] {
     }
 }
 
+/// Why D3DXMatrixLookAtLH gives no view for an eye, a point looked at and an up vector.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum LookAtError {
+    /// `at` equals `eye`: there is no view direction.
+    AtIsEye,
+    /// `up` is parallel to `at - eye` (to within a millionth of a radian): there is no side
+    /// direction.
+    UpAlongView,
+    /// The matrix overflows (vectors too large or too small).
+    NotFinite,
+}
+
+impl LookAtError {
+    /// The input to blame: `"at"`, `"up"` or `"eye"`.
+    pub fn key(self) -> &'static str {
+        match self {
+            LookAtError::AtIsEye => "at",
+            LookAtError::UpAlongView => "up",
+            LookAtError::NotFinite => "eye",
+        }
+    }
+}
+
+impl std::fmt::Display for LookAtError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            LookAtError::AtIsEye => "`at` equals `eye`",
+            LookAtError::UpAlongView => "`up` is parallel to the view direction `at - eye`",
+            LookAtError::NotFinite => {
+                "the view matrix is not finite (the vectors are too large or too small)"
+            }
+        })
+    }
+}
+
+impl std::error::Error for LookAtError {}
+
 impl Mat4 {
     /// The identity, the default of every D3DTS_* transform.
     pub const IDENTITY: Mat4 = Mat4([
@@ -157,6 +194,27 @@ impl Mat4 {
             .flatten()
             .all(|v| v.is_finite())
             .then_some(Mat4(out))
+    }
+
+    /// [`Mat4::look_at_lh`], or why these vectors give no view (a NaN or infinite matrix).
+    /// Scene files refuse such cameras with this reason.
+    pub fn look_at_checked(eye: [f32; 3], at: [f32; 3], up: [f32; 3]) -> Result<Mat4, LookAtError> {
+        let dir = sub3(at, eye);
+        if dir == [0.0; 3] {
+            return Err(LookAtError::AtIsEye);
+        }
+        // Parallel to within a millionth of a radian: the side vector is then rounding noise.
+        let len2 = |v: [f32; 3]| v.iter().map(|&x| f64::from(x).powi(2)).sum::<f64>();
+        let side = cross3(up, dir);
+        if len2(side) <= 1e-12 * len2(up) * len2(dir) {
+            return Err(LookAtError::UpAlongView);
+        }
+        let m = Mat4::look_at_lh(eye, at, up);
+        if m.0.iter().flatten().all(|v| v.is_finite()) {
+            Ok(m)
+        } else {
+            Err(LookAtError::NotFinite)
+        }
     }
 
     /// D3DXMatrixLookAtLH: a left-handed view matrix from the eye towards `at`.

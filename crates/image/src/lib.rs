@@ -5,21 +5,23 @@
 //!   [`Texture`] (full mip chain, D3DCOLOR texels); [`load_texture`] reads a file from disk and
 //!   picks the decoder by the file's signature, or by its extension (`.png`, `.dds`,
 //!   case-insensitive) when the signature is not recognised.
-//! - [`png::encode_png_rgba8`] encodes an RGBA8 image; [`write_png_atomic`] writes one so that
-//!   the target path holds either its old content or the complete new file, never a partial one.
+//! - [`png::write_png_rgba8`] encodes an RGBA8 image; [`output`] is where every output file is
+//!   written (atomically, never over an input or a file that is not a regular file), and
+//!   [`write_png_atomic`] writes one PNG through it.
 //! - Every failure is an [`ImageError`] with a one-line message that says what is wrong and where
 //!   (byte offset, header field, file path). No input makes these functions panic, and sizes are
 //!   limited to [`MAX_TEXTURE_SIZE`] per axis before anything large is allocated.
 
 use std::fmt;
 use std::fs;
-use std::io::{self, Write};
+use std::io;
 use std::path::{Path, PathBuf};
 
 use pointillist_core::RenderTarget;
 use pointillist_core::texture::{Texture, TextureError};
 
 pub mod dds;
+pub mod output;
 pub mod png;
 
 /// Largest width or height of a loaded texture (the core limit, [`pointillist_core::texture`]).
@@ -104,6 +106,9 @@ pub enum ImageError {
         /// The operating system's error.
         source: io::Error,
     },
+    /// The process is being interrupted: [`output::discard_pending`] has run, so nothing more
+    /// is written.
+    Interrupted,
     /// An error while loading or writing a given file.
     File {
         /// The file.
@@ -177,6 +182,7 @@ impl fmt::Display for ImageError {
             ImageError::Io { op, path, source } => {
                 write!(f, "cannot {op} {}: {source}", path.display())
             }
+            ImageError::Interrupted => write!(f, "interrupted: no output written"),
             ImageError::File { path, source } => write!(f, "{}: {source}", path.display()),
         }
     }
@@ -270,66 +276,15 @@ pub fn save_target_png(target: &RenderTarget, path: &Path) -> Result<(), ImageEr
     write_png_atomic(path, target.width, target.height, &target.to_rgba8())
 }
 
-/// Writes an RGBA8 image as a PNG file atomically: the data goes to a temporary file
-/// `.{name}.tmp-{pid}` in the target's directory, is flushed to disk, and is renamed over the
-/// target. On failure the temporary file is removed and an existing target is left untouched.
+/// Writes an RGBA8 image as a PNG file atomically, through [`output::Destination`] (no inputs
+/// to protect): an existing file keeps its old content on failure, and no temporary file stays.
 pub fn write_png_atomic(
     path: &Path,
     width: u32,
     height: u32,
     rgba: &[u8],
 ) -> Result<(), ImageError> {
-    let with_path = |e: ImageError| ImageError::File {
-        path: path.to_path_buf(),
-        source: Box::new(e),
-    };
-    let data = png::encode_png_rgba8(width, height, rgba).map_err(with_path)?;
-    let name = path.file_name().ok_or_else(|| ImageError::Io {
-        op: "write",
-        path: path.to_path_buf(),
-        source: io::Error::new(io::ErrorKind::InvalidInput, "the path has no file name"),
-    })?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".tmp-{}", std::process::id()));
-    let tmp = dir.join(tmp_name);
-
-    let io_err = |op: &'static str, p: &Path, source: io::Error| ImageError::Io {
-        op,
-        path: p.to_path_buf(),
-        source,
-    };
-    let mut file = fs::File::create(&tmp).map_err(|e| io_err("create", &tmp, e))?;
-    let written = file
-        .write_all(&data)
-        .map_err(|e| io_err("write", &tmp, e))
-        .and_then(|()| file.sync_all().map_err(|e| io_err("sync", &tmp, e)));
-    drop(file);
-    let result = written.and_then(|()| {
-        fs::rename(&tmp, path).map_err(|source| ImageError::Io {
-            op: "rename a temporary file over",
-            path: path.to_path_buf(),
-            source,
-        })
-    });
-    match result {
-        Ok(()) => {
-            // Make the rename itself durable where the platform allows; failure here does not
-            // undo the write, so it is not reported.
-            if let Ok(d) = fs::File::open(dir) {
-                let _ = d.sync_all();
-            }
-            Ok(())
-        }
-        Err(e) => {
-            let _ = fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+    output::Destination::check(path, &[])?.write_png(width, height, rgba)
 }
 
 #[cfg(test)]
@@ -351,7 +306,7 @@ mod tests {
         fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|n| n.contains(".tmp-"))
+            .filter(|n| n.ends_with(".tmp"))
             .collect()
     }
 

@@ -6,9 +6,10 @@
 //!   EXPAND, STRIP_16 and ALPHA transformations), and the result is a [`Texture`] whose level 0
 //!   holds the image (first frame of an APNG) and whose smaller levels are box-filtered.
 //!   Images wider or taller than [`crate::MAX_TEXTURE_SIZE`] are rejected before decoding.
-//! - [`encode_png_rgba8`] writes 8-bit RGBA, non-interlaced, rows top to bottom.
+//! - [`write_png_rgba8`] (and [`encode_png_rgba8`], into memory) writes 8-bit RGBA,
+//!   non-interlaced, rows top to bottom.
 
-use std::io::Cursor;
+use std::io::{Cursor, Write};
 
 use ::png::{BitDepth, ColorType, Decoder, Encoder, Transformations};
 use pointillist_core::color::rgba8_to_argb;
@@ -90,6 +91,19 @@ pub fn load_png(bytes: &[u8]) -> Result<Texture, ImageError> {
 
 /// Encodes `width` x `height` RGBA8 pixels (rows top to bottom) as a PNG file.
 pub fn encode_png_rgba8(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>, ImageError> {
+    let mut out = Vec::new();
+    write_png_rgba8(&mut out, width, height, rgba)?;
+    Ok(out)
+}
+
+/// Writes `width` x `height` RGBA8 pixels (rows top to bottom) as a PNG file to `out`, without
+/// a copy of the encoded file in memory.
+pub fn write_png_rgba8<W: Write>(
+    out: W,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> Result<(), ImageError> {
     if width == 0 || height == 0 {
         return Err(ImageError::ZeroSize { width, height });
     }
@@ -104,18 +118,14 @@ pub fn encode_png_rgba8(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>,
             actual: rgba.len(),
         });
     }
-    let mut out = Vec::new();
-    {
-        let mut encoder = Encoder::new(&mut out, width, height);
-        encoder.set_color(ColorType::Rgba);
-        encoder.set_depth(BitDepth::Eight);
-        let mut writer = encoder.write_header().map_err(ImageError::PngEncode)?;
-        writer
-            .write_image_data(rgba)
-            .map_err(ImageError::PngEncode)?;
-        writer.finish().map_err(ImageError::PngEncode)?;
-    }
-    Ok(out)
+    let mut encoder = Encoder::new(out, width, height);
+    encoder.set_color(ColorType::Rgba);
+    encoder.set_depth(BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(ImageError::PngEncode)?;
+    writer
+        .write_image_data(rgba)
+        .map_err(ImageError::PngEncode)?;
+    writer.finish().map_err(ImageError::PngEncode)
 }
 
 #[cfg(test)]

@@ -522,6 +522,18 @@ impl Pool {
                 (first.min(cap) as u64, end.min(cap) as u64)
             };
             for cycle in lo..hi {
+                if burst.count == 0 {
+                    break;
+                }
+                if self.live == self.emitter.max_particles {
+                    // Full: this cycle's births and the step's later ones are all dropped,
+                    // counted without walking through them (an interval of 1e-30 s has
+                    // 1e28 cycles a step).
+                    let rest = (hi - cycle).saturating_mul(u64::from(burst.count));
+                    self.dropped = self.dropped.saturating_add(rest);
+                    self.spawned = self.spawned.saturating_add(rest);
+                    break;
+                }
                 let tb = time + cycle as f64 * interval;
                 let mut rng = Rng::for_burst(seed, self.index, b as u32, cycle);
                 let centre = burst.jitter.map(|j| rng.signed() * j);

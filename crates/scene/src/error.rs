@@ -3,10 +3,29 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+/// `text` with every control character (a line break, a carriage return, an escape sequence's
+/// ESC) written as its Rust escape (`\n`, `\r`, `\u{1b}`): what a message quotes from a scene
+/// or a path can then neither break the line nor rewrite a terminal.
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return text.into();
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if c.is_control() {
+            out.extend(c.escape_debug());
+        } else {
+            out.push(c);
+        }
+    }
+    out.into()
+}
+
 /// Why a scene could not be read or replayed: where (file, line, column, key path) and what.
 ///
 /// Displays on one line as `FILE:LINE:COLUMN: KEY: MESSAGE`, for instance
-/// `scenes/ring.toml:12:5: draw[2].states.POINTSIZE: expected a number, found a string`.
+/// `scenes/ring.toml:12:5: draw[2].states.POINTSIZE: expected a number, found a string`, with
+/// control characters escaped ([`printable`]).
 /// The position is left out when there is none (`line == 0`: the scene file itself could not be
 /// read), and the key path when the error is not about one key (a TOML syntax error).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -37,16 +56,24 @@ impl SceneError {
     }
 }
 
+impl SceneError {
+    /// The same error about `key`.
+    pub(crate) fn with_key(mut self, key: &str) -> SceneError {
+        self.key = key.to_owned();
+        self
+    }
+}
+
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:", self.file.display())?;
+        write!(f, "{}:", printable(&self.file.display().to_string()))?;
         if self.line > 0 {
             write!(f, "{}:{}:", self.line, self.column)?;
         }
         if !self.key.is_empty() {
-            write!(f, " {}:", self.key)?;
+            write!(f, " {}:", printable(&self.key))?;
         }
-        write!(f, " {}", self.message)
+        write!(f, " {}", printable(&self.message))
     }
 }
 

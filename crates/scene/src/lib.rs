@@ -49,7 +49,7 @@ use pointillist_core::{Backend, Device, DeviceDesc, TransformType, Viewport};
 use pointillist_particles::{DrawBuffers, Emitter, ParticleSystem, SystemConfig};
 
 pub use case::{Case, Expect, Others, list_cases};
-pub use error::{Origin, SceneError};
+pub use error::{Origin, SceneError, printable};
 
 /// The largest render target side a scene may ask for, in pixels.
 pub const MAX_TARGET_SIZE: u32 = pointillist_core::MAX_TARGET_SIZE;
@@ -64,6 +64,24 @@ pub const TARGET_BYTES_PER_PIXEL: u64 = 12;
 /// Bytes an emitter holds per particle of `max_particles`: eleven f32 columns, its
 /// XYZ | PSIZE | DIFFUSE vertex, and when sorted a key and a second vertex copy.
 pub const PARTICLE_BYTES: u64 = 96;
+/// The largest scene file read, in bytes (docs/spec/SCENE.md, limits): checked from the file's
+/// length before it is read. Large vertex sets belong in raw vertex files (`file =`).
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+/// The most `[[emitter]]` tables a scene may have (docs/spec/PARTICLES.md, limits).
+pub const MAX_EMITTERS: usize = 1024;
+/// The most fixed simulation steps between two frames, or before frame 0 (the warm-up)
+/// (docs/spec/PARTICLES.md, limits): checked when `[animation]` is read.
+pub const MAX_STEPS_PER_FRAME: u64 = 1 << 20;
+/// The most fixed simulation steps from time 0 to the last frame (docs/spec/PARTICLES.md,
+/// limits), so that `render --frame N` of any frame ends.
+pub const MAX_SIMULATION_STEPS: u64 = 1 << 24;
+
+/// Bytes an emitter of `max_particles` holds: its storage is whole blocks of
+/// [`pointillist_particles::BLOCK`] particles, [`PARTICLE_BYTES`] each.
+pub fn emitter_bytes(max_particles: usize) -> u64 {
+    let block = pointillist_particles::BLOCK;
+    (max_particles.div_ceil(block) * block) as u64 * PARTICLE_BYTES
+}
 
 /// The render target of a scene: an A8R8G8B8 surface with a depth buffer.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -178,6 +196,8 @@ pub struct CameraKey {
     pub eye: [f32; 3],
     /// The point looked at.
     pub at: [f32; 3],
+    /// The up vector of the view from this key to the next.
+    pub up: [f32; 3],
 }
 
 /// How the camera moves during an animation; it replaces the VIEW transform every frame.
@@ -199,12 +219,10 @@ pub enum Camera {
         up: [f32; 3],
     },
     /// The eye and the point looked at move linearly between keys, held before the first key
-    /// and after the last.
+    /// and after the last; each key's `up` holds until the next key.
     Path {
         /// Keys in increasing time.
         keys: Vec<CameraKey>,
-        /// The up vector of the view.
-        up: [f32; 3],
     },
 }
 
@@ -244,8 +262,21 @@ impl Animation {
         f64::from(self.warmup) + f64::from(frame) / f64::from(self.fps)
     }
 
-    /// The VIEW matrix of the camera at `t` seconds after frame 0; `None` without a camera.
-    pub fn view_at(&self, t: f64) -> Option<Mat4> {
+    /// The VIEW matrix of the camera at `t` seconds after frame 0; `None` without a camera;
+    /// an error naming the time when the camera has no view then (a path whose keys cross, an
+    /// orbit looking along its `up`).
+    pub fn view_at(&self, t: f64) -> Result<Option<Mat4>, String> {
+        let Some((eye, at, up)) = self.camera_at(t) else {
+            return Ok(None);
+        };
+        Mat4::look_at_checked(eye, at, up)
+            .map(Some)
+            .map_err(|e| format!("at {t} s the camera has no view: {e}"))
+    }
+
+    /// The camera's eye, the point it looks at and its up vector at `t` seconds after frame 0;
+    /// `None` without a camera.
+    pub fn camera_at(&self, t: f64) -> Option<([f32; 3], [f32; 3], [f32; 3])> {
         let lerp3 = |a: [f32; 3], b: [f32; 3], u: f32| {
             [
                 a[0] + (b[0] - a[0]) * u,
@@ -253,7 +284,7 @@ impl Animation {
                 a[2] + (b[2] - a[2]) * u,
             ]
         };
-        let (eye, at, up) = match self.camera.as_ref()? {
+        Some(match self.camera.as_ref()? {
             Camera::Orbit {
                 at,
                 radius,
@@ -271,23 +302,104 @@ impl Animation {
                 ];
                 (eye, *at, *up)
             }
-            Camera::Path { keys, up } => {
+            Camera::Path { keys } => {
                 let t = t as f32;
                 let j = keys.iter().filter(|k| k.time <= t).count();
-                let (eye, at) = if j == 0 {
-                    (keys[0].eye, keys[0].at)
+                if j == 0 {
+                    (keys[0].eye, keys[0].at, keys[0].up)
                 } else if j == keys.len() {
-                    (keys[j - 1].eye, keys[j - 1].at)
+                    (keys[j - 1].eye, keys[j - 1].at, keys[j - 1].up)
                 } else {
                     let (a, b) = (&keys[j - 1], &keys[j]);
                     let u = (t - a.time) / (b.time - a.time);
-                    (lerp3(a.eye, b.eye, u), lerp3(a.at, b.at, u))
-                };
-                (eye, at, *up)
+                    (lerp3(a.eye, b.eye, u), lerp3(a.at, b.at, u), a.up)
+                }
             }
-        };
-        let m = Mat4::look_at_lh(eye, at, up);
-        m.0.iter().flatten().all(|x| x.is_finite()).then_some(m)
+        })
+    }
+
+    /// Checks that `frames` frames take at most [`MAX_STEPS_PER_FRAME`] fixed steps between
+    /// two frames (and before frame 0) and [`MAX_SIMULATION_STEPS`] in all; the error says
+    /// which bound and why.
+    pub fn check_steps(&self, frames: u32) -> Result<(), StepsError> {
+        let h = f64::from(self.time_step);
+        let step = seconds(h);
+        let warmup = f64::from(self.warmup) / h;
+        if warmup > MAX_STEPS_PER_FRAME as f64 {
+            return Err(StepsError::Warmup(format!(
+                "a warm-up of {} s is {} steps of {step}, above the limit of \
+                 {MAX_STEPS_PER_FRAME} steps per frame",
+                self.warmup,
+                number(warmup.round())
+            )));
+        }
+        let interval = 1.0 / f64::from(self.fps);
+        let per_frame = interval / h;
+        if per_frame > MAX_STEPS_PER_FRAME as f64 {
+            return Err(StepsError::PerFrame(format!(
+                "a frame every {} is {} steps of {step}, above the limit of \
+                 {MAX_STEPS_PER_FRAME} steps per frame",
+                seconds(interval),
+                number(per_frame.round())
+            )));
+        }
+        let last = frames.saturating_sub(1);
+        let total = self.sim_time(last) / h;
+        if total > MAX_SIMULATION_STEPS as f64 {
+            return Err(StepsError::Total(format!(
+                "frame {last} is {} s of simulation, {} steps of {step}, above the limit of \
+                 {MAX_SIMULATION_STEPS} steps",
+                number(self.sim_time(last)),
+                number(total.round())
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Which bound of [`Animation::check_steps`] an animation goes over, and its one-line reason.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StepsError {
+    /// The warm-up alone takes more than [`MAX_STEPS_PER_FRAME`].
+    Warmup(String),
+    /// One frame interval (`1 / fps`) takes more than [`MAX_STEPS_PER_FRAME`].
+    PerFrame(String),
+    /// The whole animation takes more than [`MAX_SIMULATION_STEPS`].
+    Total(String),
+}
+
+impl std::fmt::Display for StepsError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StepsError::Warmup(m) | StepsError::PerFrame(m) | StepsError::Total(m) => {
+                f.write_str(m)
+            }
+        }
+    }
+}
+
+/// `x` seconds as a message says it: `1/60 s` when `1 / x` is a whole number of up to six
+/// digits (within f32 rounding), else its shortest decimal, in exponent form when very large
+/// or small.
+fn seconds(x: f64) -> String {
+    let n = (1.0 / x).round();
+    if (2.0..1e6).contains(&n) && ((1.0 / n) - x).abs() <= x * 1e-6 {
+        format!("1/{n} s")
+    } else {
+        format!("{} s", number(x))
+    }
+}
+
+/// `x` as a message writes it: its shortest f32 decimal, or exponent form when very large or
+/// small.
+fn number(x: f64) -> String {
+    let y = x as f32;
+    if !y.is_finite() {
+        format!("{x:.2e}")
+    } else if y != 0.0 && !(1e-4..1e15).contains(&y.abs()) {
+        format!("{y:e}")
+    } else {
+        format!("{y}")
     }
 }
 
@@ -308,15 +420,67 @@ pub struct Scene {
     pub emitters: Vec<EmitterDesc>,
     /// The `[animation]` table (its defaults when the file has none).
     pub animation: Animation,
+    /// The files the scene was read from: the scene file, then each texture and vertex file it
+    /// names, as paths from the current folder. An output must be none of them.
+    pub inputs: Vec<PathBuf>,
     /// The `[case]` table of a conformance case: metadata that replaying ignores.
     pub case: Option<Case>,
 }
 
 /// Reads and parses the scene file at `path`; relative files it names are found from its folder.
+/// The file must be a regular file of at most [`MAX_SCENE_BYTES`] (so never a device or a pipe
+/// that reads forever), checked before it is read.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError::unplaced(path, format!("cannot read scene file: {e}")))?;
+    use std::io::Read;
+    let fail = |why: String| SceneError::unplaced(path, format!("cannot read scene file: {why}"));
+    let file = std::fs::File::open(path).map_err(|e| fail(e.to_string()))?;
+    let meta = file.metadata().map_err(|e| fail(e.to_string()))?;
+    if !meta.is_file() {
+        return Err(fail(format!(
+            "it is not a regular file ({})",
+            file_kind(&meta)
+        )));
+    }
+    let too_big = |len: u64| {
+        fail(format!(
+            "it holds {len} bytes, above the limit of {MAX_SCENE_BYTES} bytes (16.0 MiB) for a \
+             scene file; put large vertex arrays in raw vertex files (`file =`)"
+        ))
+    };
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(too_big(meta.len()));
+    }
+    // The file may grow while it is read: never read more than the limit.
+    let mut text = String::new();
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(|e| fail(e.to_string()))?;
+    if text.len() as u64 > MAX_SCENE_BYTES {
+        return Err(too_big(text.len() as u64));
+    }
     parse(&text, path)
+}
+
+/// What a file that is not a regular file is, for messages.
+fn file_kind(m: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = m.file_type();
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_fifo() {
+            return "a named pipe";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if m.is_dir() { "a folder" } else { "not a file" }
 }
 
 /// Parses scene text. `file` names the scene in errors, and relative files are resolved from its
@@ -465,7 +629,14 @@ impl Scene {
         system.advance_to(t);
         let view = self
             .animation
-            .view_at(f64::from(frame) / f64::from(self.animation.fps));
+            .view_at(f64::from(frame) / f64::from(self.animation.fps))
+            .map_err(|e| {
+                let key = match self.animation.camera {
+                    Some(Camera::Path { .. }) => "animation.path",
+                    _ => "animation.orbit",
+                };
+                SceneError::unplaced(&self.file, e).with_key(key)
+            })?;
         self.replay_with_view(device, view)?;
         system.draw(device, buffers).map_err(|e| {
             let origin = self
@@ -482,6 +653,8 @@ impl Scene {
 mod tests;
 #[cfg(test)]
 mod tests_case;
+#[cfg(test)]
+mod tests_hostile;
 #[cfg(test)]
 mod tests_lighting;
 #[cfg(test)]

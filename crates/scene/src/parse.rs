@@ -20,12 +20,13 @@ use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 use crate::reader::{
-    Fields, Source, Value, array, boolean, count, entries, expected, fields, finite, finite_in,
-    float, floats, index, integer, integer_in, join, number, one_of, string, table, u32_value,
+    Fields, Seen, Source, Value, array, boolean, count, entries, expected, fields, finite,
+    finite_in, float, floats, index, integer, integer_in, join, number, one_of, string, table,
+    u32_value,
 };
 use crate::{
-    Command, MAX_TARGET_SIZE, MEMORY_BUDGET, Scene, SceneError, Step, TARGET_BYTES_PER_PIXEL,
-    TargetDesc,
+    Command, MAX_EMITTERS, MAX_TARGET_SIZE, MEMORY_BUDGET, Scene, SceneError, Step,
+    TARGET_BYTES_PER_PIXEL, TargetDesc,
 };
 
 /// The scene format this version reads.
@@ -70,9 +71,16 @@ const DRAW_KEYS: &[&str] = &[
 /// Parses scene text; `file` names it in errors and anchors relative paths.
 pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
     let src = Source::new(text, file);
-    let root = DeTable::parse(text).map_err(|e| {
-        let span = e.span().unwrap_or(0..0);
-        src.error(&span, "", e.message())
+    let root = DeTable::parse(text).map_err(|e| match (e.span(), deep_key(text)) {
+        (None, Some((at, parts))) => src.error(
+            &(at..at),
+            "",
+            format!(
+                "a dotted key of {parts} parts is nested deeper than the TOML reader's limit of \
+                 {TOML_DEPTH} levels"
+            ),
+        ),
+        (span, _) => src.error(&span.unwrap_or(0..0), "", e.message()),
     })?;
     let root: Value<'_> = Spanned::new(root.span(), DeValue::Table(root.into_inner()));
     let base = file.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -89,8 +97,48 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
         viewport: None,
         steps: Vec::new(),
         memory: Memory::default(),
+        inputs: vec![file.to_path_buf()],
     };
     p.scene(&root)
+}
+
+/// How deep the TOML reader nests keys, tables and arrays before it gives up (the `toml`
+/// crate's recursion limit).
+const TOML_DEPTH: usize = 80;
+
+/// The first dotted key (of a key/value line or a table header) of at least [`TOML_DEPTH`]
+/// parts: its byte offset and its number of parts. The TOML reader refuses such a key without
+/// saying where it is.
+fn deep_key(text: &str) -> Option<(usize, usize)> {
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let body = line.trim_start();
+        let mut start = offset + (line.len() - body.len());
+        let key = if let Some(header) = body.strip_prefix('[') {
+            let header = header.trim_start_matches('[');
+            start += body.len() - header.len();
+            header
+        } else {
+            body
+        };
+        // Dots outside quotes, up to the end of the key.
+        let (mut parts, mut quote) = (1, None);
+        for c in key.chars() {
+            match (quote, c) {
+                (Some(q), c) if c == q => quote = None,
+                (Some(_), _) => {}
+                (None, '"' | '\'') => quote = Some(c),
+                (None, '.') => parts += 1,
+                (None, '=' | ']' | '#') => break,
+                _ => {}
+            }
+        }
+        if parts >= TOML_DEPTH {
+            return Some((start, parts));
+        }
+        offset += line.len();
+    }
+    None
 }
 
 /// The walk's state: what is needed to resolve values and the commands so far.
@@ -106,6 +154,8 @@ struct Parser<'a> {
     steps: Vec<Step>,
     /// What the render will hold so far, against [`MEMORY_BUDGET`].
     memory: Memory,
+    /// The scene file and every file it names, as read.
+    inputs: Vec<PathBuf>,
 }
 
 /// Bytes a render will hold, by kind (docs/spec/PARTICLES.md, limits).
@@ -238,7 +288,15 @@ impl Parser<'_> {
                 }
             };
             for (i, e) in list.iter().enumerate() {
-                emitters.push(self.emitter(e, &index("emitter", i))?);
+                let path = index("emitter", i);
+                if i == MAX_EMITTERS {
+                    return Err(self.src.error(
+                        &e.span(),
+                        &path,
+                        format!("more than {MAX_EMITTERS} emitters (the limit of a scene)"),
+                    ));
+                }
+                emitters.push(self.emitter(e, &path)?);
             }
         }
         let animation = match f.get("animation") {
@@ -257,6 +315,7 @@ impl Parser<'_> {
             steps: std::mem::take(&mut self.steps),
             emitters,
             animation,
+            inputs: std::mem::take(&mut self.inputs),
             case,
         })
     }
@@ -455,6 +514,7 @@ impl Parser<'_> {
 
     fn states(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
         let t = table(&self.src, v, path)?;
+        let mut seen = Seen::default();
         for (k, v) in entries(t) {
             let path = join(path, k.get_ref());
             let state = RenderState::from_name(k.get_ref()).ok_or_else(|| {
@@ -465,6 +525,7 @@ impl Parser<'_> {
                 )
             })?;
             let name = state.name().unwrap_or_default();
+            seen.once(&self.src, name, k, &path)?;
             let limit = (state == RenderState::ALPHAREF).then_some(255);
             let value = state_value(&self.src, state.kind(), name, limit, v, &path)?;
             self.push(Command::RenderState(state, value), v, &path);
@@ -474,10 +535,24 @@ impl Parser<'_> {
 
     fn stages(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
         let t = table(&self.src, v, path)?;
+        let mut stages_seen: Vec<(usize, usize)> = Vec::new();
         for (k, v) in entries(t) {
             let path = join(path, k.get_ref());
             let stage = match k.get_ref().parse::<usize>() {
-                Ok(n) if n <= MAX_STAGE => n,
+                Ok(n) if n <= MAX_STAGE => {
+                    if let Some((_, line)) = stages_seen.iter().find(|(s, _)| *s == n) {
+                        return Err(self.src.error(
+                            &k.span(),
+                            &path,
+                            format!(
+                                "stage {} is stage {n} again, given on line {line}",
+                                k.get_ref()
+                            ),
+                        ));
+                    }
+                    stages_seen.push((n, self.src.origin(&k.span(), &path).line));
+                    n
+                }
                 Ok(n) => {
                     return Err(self.src.error(
                         &k.span(),
@@ -497,11 +572,13 @@ impl Parser<'_> {
                 }
             };
             let t = table(&self.src, v, &path)?;
+            let mut seen = Seen::default();
             for (k, v) in entries(t) {
                 let path = join(&path, k.get_ref());
                 let name = k.get_ref().as_ref();
                 let command = if let Some(state) = TextureStageState::from_name(name) {
                     let canonical = state.name().unwrap_or_default();
+                    seen.once(&self.src, canonical, k, &path)?;
                     let value = state_value(&self.src, state.kind(), canonical, None, v, &path)?;
                     Command::TextureStageState {
                         stage,
@@ -510,6 +587,7 @@ impl Parser<'_> {
                     }
                 } else if let Some(state) = SamplerState::from_name(name) {
                     let canonical = state.name().unwrap_or_default();
+                    seen.once(&self.src, canonical, k, &path)?;
                     let value = state_value(&self.src, state.kind(), canonical, None, v, &path)?;
                     Command::SamplerState {
                         sampler: stage,
@@ -594,6 +672,7 @@ impl Parser<'_> {
             return Ok(Arc::clone(t));
         }
         let len = check_readable(&self.src, v, path, &file, "texture")?;
+        self.inputs.push(file.clone());
         // The file's bytes are held while it is decoded.
         let before = self.memory;
         self.charge(Charge::Textures, len, v, path, "this texture file")?;
@@ -793,6 +872,7 @@ impl Parser<'_> {
         let name = string(src, v, path)?;
         let file = self.base.join(name);
         let len = check_readable(src, v, path, &file, "vertex")?;
+        self.inputs.push(file.clone());
         let stride = fvf.stride() as u64;
         if len % stride != 0 {
             return Err(src.error(
@@ -960,25 +1040,10 @@ fn matrix(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Mat4, SceneErro
                         floats::<3>(src, a.require(src, k)?, &a.path(k))
                     };
                     let (eye, at, up) = (get("eye")?, get("at")?, get("up")?);
-                    let dir = [at[0] - eye[0], at[1] - eye[1], at[2] - eye[2]];
-                    let side = [
-                        up[1] * dir[2] - up[2] * dir[1],
-                        up[2] * dir[0] - up[0] * dir[2],
-                        up[0] * dir[1] - up[1] * dir[0],
-                    ];
-                    if dir == [0.0; 3] {
-                        let v = a.require(src, "at")?;
-                        return Err(src.error(&v.span(), &a.path("at"), "`at` equals `eye`"));
-                    }
-                    if side == [0.0; 3] {
-                        let v = a.require(src, "up")?;
-                        return Err(src.error(
-                            &v.span(),
-                            &a.path("up"),
-                            "`up` is parallel to the view direction `at - eye`",
-                        ));
-                    }
-                    Mat4::look_at_lh(eye, at, up)
+                    Mat4::look_at_checked(eye, at, up).map_err(|e| {
+                        let v = a.get(e.key()).unwrap_or(mv);
+                        src.error(&v.span(), &a.path(e.key()), e.to_string())
+                    })?
                 }
                 _ => {
                     let keys: [&str; 4] = if maker == "ortho_lh" {

@@ -119,6 +119,41 @@ pub(crate) fn entries<'t, 'i>(
     v
 }
 
+/// The states a table has named so far, by canonical name: names are case-insensitive (and may
+/// carry the `D3DRS_` prefix), so two keys that name one state are a duplicate key.
+#[derive(Default)]
+pub(crate) struct Seen {
+    /// Canonical name, the key as written, its line.
+    names: Vec<(&'static str, String, usize)>,
+}
+
+impl Seen {
+    /// Records `key`, which names the state `canonical`, or fails when an earlier key of the
+    /// table named it.
+    pub(crate) fn once(
+        &mut self,
+        src: &Source<'_>,
+        canonical: &'static str,
+        key: &Spanned<DeString<'_>>,
+        path: &str,
+    ) -> Result<(), SceneError> {
+        let name = key.get_ref().as_ref();
+        if let Some((_, first, line)) = self.names.iter().find(|(c, ..)| *c == canonical) {
+            return Err(src.error(
+                &key.span(),
+                path,
+                format!(
+                    "`{name}` names the same state as `{first}` on line {line} (state names \
+                     are case-insensitive)"
+                ),
+            ));
+        }
+        let line = src.origin(&key.span(), path).line;
+        self.names.push((canonical, name.to_owned(), line));
+        Ok(())
+    }
+}
+
 /// A table whose keys have been checked against a fixed list.
 pub(crate) struct Fields<'t, 'i> {
     /// Key path of the table.

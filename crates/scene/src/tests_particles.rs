@@ -327,15 +327,16 @@ fn animation_keys_and_defaults() {
                 CameraKey {
                     time: 0.0,
                     eye: [0.0, 0.0, -10.0],
-                    at: [0.0; 3]
+                    at: [0.0; 3],
+                    up: [0.0, 1.0, 0.0]
                 },
                 CameraKey {
                     time: 2.0,
                     eye: [10.0, 0.0, -10.0],
-                    at: [0.0; 3]
+                    at: [0.0; 3],
+                    up: [0.0, 1.0, 0.0]
                 }
-            ],
-            up: [0.0, 1.0, 0.0]
+            ]
         })
     );
 }
@@ -403,17 +404,32 @@ fn cameras_move_as_documented() {
                 degrees_per_second = 90 }\n",
     );
     let a = &s.animation;
-    assert!(close(eye_of(&a.view_at(0.0).unwrap()), [1.0, 6.0, -7.0]));
-    assert!(close(eye_of(&a.view_at(1.0).unwrap()), [11.0, 6.0, 3.0]));
+    assert!(close(
+        eye_of(&a.view_at(0.0).unwrap().unwrap()),
+        [1.0, 6.0, -7.0]
+    ));
+    assert!(close(
+        eye_of(&a.view_at(1.0).unwrap().unwrap()),
+        [11.0, 6.0, 3.0]
+    ));
     let s = ok(
         "[[animation.path]]\ntime = 1\neye = [0, 0, -10]\nat = [0, 0, 0]\n\
          [[animation.path]]\ntime = 3\neye = [10, 0, -10]\nat = [0, 0, 0]\n",
     );
     let a = &s.animation;
-    assert!(close(eye_of(&a.view_at(0.0).unwrap()), [0.0, 0.0, -10.0]));
-    assert!(close(eye_of(&a.view_at(2.0).unwrap()), [5.0, 0.0, -10.0]));
-    assert!(close(eye_of(&a.view_at(9.0).unwrap()), [10.0, 0.0, -10.0]));
-    assert!(ok("").animation.view_at(0.0).is_none());
+    assert!(close(
+        eye_of(&a.view_at(0.0).unwrap().unwrap()),
+        [0.0, 0.0, -10.0]
+    ));
+    assert!(close(
+        eye_of(&a.view_at(2.0).unwrap().unwrap()),
+        [5.0, 0.0, -10.0]
+    ));
+    assert!(close(
+        eye_of(&a.view_at(9.0).unwrap().unwrap()),
+        [10.0, 0.0, -10.0]
+    ));
+    assert!(ok("").animation.view_at(0.0).unwrap().is_none());
 }
 
 /// A scene whose one particle, born at the origin at rest, shows as a 5x5 red square at

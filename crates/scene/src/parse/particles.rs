@@ -4,6 +4,7 @@
 //! each value where it stands, so an error names the line and key of the offending value, and
 //! finally runs [`Emitter::validate`] as a backstop.
 
+use pointillist_core::math::Mat4;
 use pointillist_core::states::{EnumType, RenderState, SamplerState, TextureStageState};
 use pointillist_particles::{
     BlendMode, Burst, Curve, Emitter, MAX_PARTICLES, Range, Range3, RenderSettings, Shape,
@@ -16,7 +17,7 @@ use crate::reader::{
     Fields, Source, Value, array, boolean, count, entries, expected, fields, finite, float, floats,
     index, integer_in, join, one_of, string, u32_value,
 };
-use crate::{Animation, Camera, CameraKey, EmitterDesc, PARTICLE_BYTES, SceneError};
+use crate::{Animation, Camera, CameraKey, EmitterDesc, SceneError, StepsError, emitter_bytes};
 
 /// The keys of an `[[emitter]]` table.
 pub(super) const EMITTER_KEYS: &[&str] = &[
@@ -544,17 +545,20 @@ impl Parser<'_> {
         if let Some(v) = f.get("filter") {
             let path = f.path("filter");
             let name = string(src, v, &path)?;
-            let raw = EnumType::TextureFilter
+            use pointillist_core::states::TextureFilter;
+            r.filter = match EnumType::TextureFilter
                 .value_from_name(name)
-                .ok_or_else(|| {
-                    src.error(
+                .and_then(TextureFilter::from_raw)
+            {
+                Some(f @ (TextureFilter::Point | TextureFilter::Linear)) => f,
+                _ => {
+                    return Err(src.error(
                         &v.span(),
                         &path,
                         format!("unknown filter `{name}` (expected POINT or LINEAR)"),
-                    )
-                })?;
-            r.filter = pointillist_core::states::TextureFilter::from_raw(raw)
-                .unwrap_or(pointillist_core::states::TextureFilter::Linear);
+                    ));
+                }
+            };
         }
         r.point_sprite = flag("point_sprite", true)?;
         if let Some(v) = f.get("point_scale") {
@@ -601,9 +605,15 @@ impl Parser<'_> {
             Some(m) => (m, f.path("max_particles")),
             None => (v, path.to_owned()),
         };
+        // A turbulent emitter also holds its noise lattice.
+        let noise = if e.turbulence.strength > 0.0 {
+            (pointillist_particles::NOISE_PERIOD.pow(3) * 16) as u64
+        } else {
+            0
+        };
         self.charge(
             Charge::Particles,
-            e.max_particles as u64 * PARTICLE_BYTES,
+            emitter_bytes(e.max_particles) + noise,
             at,
             &key,
             "this emitter's particle storage",
@@ -629,6 +639,7 @@ impl Parser<'_> {
     ) -> Result<Vec<(RenderState, u32)>, SceneError> {
         let t = crate::reader::table(&self.src, v, path)?;
         let mut out = Vec::new();
+        let mut seen = crate::reader::Seen::default();
         for (k, v) in entries(t) {
             let path = join(path, k.get_ref());
             let state = RenderState::from_name(k.get_ref()).ok_or_else(|| {
@@ -639,6 +650,7 @@ impl Parser<'_> {
                 )
             })?;
             let name = state.name().unwrap_or_default();
+            seen.once(&self.src, name, k, &path)?;
             let limit = (state == RenderState::ALPHAREF).then_some(255);
             out.push((
                 state,
@@ -657,17 +669,20 @@ impl Parser<'_> {
     ) -> Result<(Vec<(TextureStageState, u32)>, Vec<(SamplerState, u32)>), SceneError> {
         let t = crate::reader::table(&self.src, v, path)?;
         let (mut stage, mut sampler) = (Vec::new(), Vec::new());
+        let mut seen = crate::reader::Seen::default();
         for (k, v) in entries(t) {
             let path = join(path, k.get_ref());
             let name = k.get_ref().as_ref();
             if let Some(state) = TextureStageState::from_name(name) {
                 let canonical = state.name().unwrap_or_default();
+                seen.once(&self.src, canonical, k, &path)?;
                 stage.push((
                     state,
                     state_value(&self.src, state.kind(), canonical, None, v, &path)?,
                 ));
             } else if let Some(state) = SamplerState::from_name(name) {
                 let canonical = state.name().unwrap_or_default();
+                seen.once(&self.src, canonical, k, &path)?;
                 sampler.push((
                     state,
                     state_value(&self.src, state.kind(), canonical, None, v, &path)?,
@@ -758,6 +773,13 @@ impl Parser<'_> {
                     start_degrees: get("start_degrees", -90.0)?,
                     up: self.up(&o)?,
                 });
+                // The camera of frame 0; later frames are checked as they are drawn.
+                if let Some((eye, at, up)) = a.camera_at(0.0)
+                    && let Err(e) = Mat4::look_at_checked(eye, at, up)
+                {
+                    let at = o.get("up").unwrap_or(v);
+                    return Err(src.error(&at.span(), &o.path("up"), e.to_string()));
+                }
             }
             (None, Some(v)) => {
                 let path = f.path("path");
@@ -794,12 +816,36 @@ impl Parser<'_> {
                     if kf.get("up").is_some() {
                         up = self.up(&kf)?;
                     }
-                    keys.push(CameraKey { time, eye, at });
+                    if let Err(e) = Mat4::look_at_checked(eye, at, up) {
+                        let (at, key) = match kf.get(e.key()) {
+                            Some(v) => (v, kf.path(e.key())),
+                            None => (k, kpath.clone()),
+                        };
+                        return Err(src.error(&at.span(), &key, e.to_string()));
+                    }
+                    keys.push(CameraKey { time, eye, at, up });
                 }
-                a.camera = Some(Camera::Path { keys, up });
+                a.camera = Some(Camera::Path { keys });
             }
             (None, None) => {}
         }
+        a.check_steps(a.frames).map_err(|e| {
+            // The key that makes the steps too many: the warm-up, the frame count, or the
+            // later of fps and time_step in the file.
+            let later = ["fps", "time_step"]
+                .into_iter()
+                .filter_map(|k| f.get(k).map(|v| (k, v)))
+                .max_by_key(|(_, v)| v.span().start);
+            let (key, at) = match &e {
+                StepsError::Warmup(_) => ("warmup", f.get("warmup")),
+                StepsError::Total(_) if f.get("frames").is_some() => ("frames", f.get("frames")),
+                _ => later.map_or(("", None), |(k, v)| (k, Some(v))),
+            };
+            match at {
+                Some(at) => src.error(&at.span(), &f.path(key), e.to_string()),
+                None => src.error(&v.span(), "animation", e.to_string()),
+            }
+        })?;
         Ok(a)
     }
 
