@@ -6,7 +6,15 @@ use std::path::PathBuf;
 use crate::run::cases_dir;
 
 /// The folders of `cases/`, each with its list of cases in a chapter module.
-const FOLDERS: [&str; 2] = ["2-size", "golden"];
+const FOLDERS: [&str; 7] = [
+    "2-size",
+    "3-clipping",
+    "4-rasterization",
+    "5-pixels",
+    "6-caps",
+    "golden",
+    "wine",
+];
 
 #[test]
 fn the_suite_has_exactly_the_known_folders() {
