@@ -74,3 +74,30 @@ fn every_case_cites_spec_items_that_exist() {
         }
     }
 }
+
+/// Every numbered item of a chapter with a case folder (`N-name/`) is checked by at least one
+/// case of that folder, so the suite covers each rule of the chapter it is named for.
+#[test]
+fn every_item_of_a_chapter_has_a_case() {
+    let items = spec_items();
+    for folder in FOLDERS {
+        let Some((chapter, _)) = folder.split_once('-') else {
+            continue;
+        };
+        let files = pointillist_scene::list_cases(&cases_dir().join(folder)).expect(folder);
+        let mut cited = BTreeSet::new();
+        for file in files {
+            let scene = pointillist_scene::load(&file).unwrap_or_else(|e| panic!("{e}"));
+            cited.extend(scene.case.map(|c| c.rules).unwrap_or_default());
+        }
+        let prefix = format!("{chapter}.");
+        let missing: Vec<&String> = items
+            .iter()
+            .filter(|i| i.starts_with(&prefix) && !cited.contains(*i))
+            .collect();
+        assert!(
+            missing.is_empty(),
+            "cases/{folder}: no case cites SPEC {missing:?}"
+        );
+    }
+}
