@@ -196,17 +196,34 @@ impl GpuBackend {
         })
     }
 
-    /// Copies colour and depth to a buffer and maps it.
+    /// Copies colour, then depth, through a readback buffer each (one plane fits the adapter's
+    /// `max_buffer_size`: [`Backend::create_target`] checks it).
     fn read(&self) -> Result<RenderTarget, GpuError> {
         let t = self.target()?;
+        let color = self.read_plane(t, &t.color, wgpu::TextureAspect::All)?;
+        let depth = self.read_plane(t, &t.depth, wgpu::TextureAspect::DepthOnly)?;
+        Ok(RenderTarget {
+            width: t.desc.width,
+            height: t.desc.height,
+            color,
+            depth: depth.into_iter().map(f32::from_bits).collect(),
+        })
+    }
+
+    /// One 4-byte plane of the target as little-endian words, row by row.
+    fn read_plane(
+        &self,
+        t: &Target,
+        texture: &wgpu::Texture,
+        aspect: wgpu::TextureAspect,
+    ) -> Result<Vec<u32>, GpuError> {
         let ctx = self.renderer.context();
         let (w, h) = (t.desc.width, t.desc.height);
         let padded = copy_pitch(w);
-        let plane = u64::from(padded) * u64::from(h);
         let buffer = ctx.scoped(|| {
             let buffer = ctx.device().create_buffer(&wgpu::BufferDescriptor {
                 label: Some("pointillist readback"),
-                size: plane * 2,
+                size: u64::from(padded) * u64::from(h),
                 usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
                 mapped_at_creation: false,
             });
@@ -215,33 +232,27 @@ impl GpuBackend {
                     .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                         label: Some("pointillist readback"),
                     });
-            let extent = wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            };
-            for (texture, aspect, offset) in [
-                (&t.color, wgpu::TextureAspect::All, 0),
-                (&t.depth, wgpu::TextureAspect::DepthOnly, plane),
-            ] {
-                encoder.copy_texture_to_buffer(
-                    wgpu::TexelCopyTextureInfo {
-                        texture,
-                        mip_level: 0,
-                        origin: wgpu::Origin3d::ZERO,
-                        aspect,
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(padded),
+                        rows_per_image: Some(h),
                     },
-                    wgpu::TexelCopyBufferInfo {
-                        buffer: &buffer,
-                        layout: wgpu::TexelCopyBufferLayout {
-                            offset,
-                            bytes_per_row: Some(padded),
-                            rows_per_image: Some(h),
-                        },
-                    },
-                    extent,
-                );
-            }
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
             ctx.queue().submit([encoder.finish()]);
             buffer
         })?;
@@ -256,20 +267,13 @@ impl GpuBackend {
                 .get_mapped_range(..)
                 .map_err(|e| GpuError::Readback(e.to_string()))?;
             let bytes: &[u8] = &view;
-            // The plane at `base`, row by row, as little-endian words.
-            let words = |base: usize| {
-                (0..h as usize).flat_map(move |y| {
-                    bytes[base + y * padded as usize..][..w as usize * 4]
+            (0..h as usize)
+                .flat_map(|y| {
+                    bytes[y * padded as usize..][..w as usize * 4]
                         .chunks_exact(4)
                         .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
                 })
-            };
-            RenderTarget {
-                width: w,
-                height: h,
-                color: words(0).collect(),
-                depth: words(plane as usize).map(f32::from_bits).collect(),
-            }
+                .collect()
         };
         buffer.unmap();
         Ok(out)
@@ -289,6 +293,15 @@ impl Backend for GpuBackend {
         if width > max || height > max {
             return Err(GpuError::Unsupported(format!(
                 "render target {width}x{height} exceeds the adapter's {max} pixels per side"
+            ))
+            .into());
+        }
+        let plane = u64::from(copy_pitch(width)) * u64::from(height);
+        let max_buffer = ctx.limits().max_buffer_size;
+        if plane > max_buffer {
+            return Err(GpuError::Unsupported(format!(
+                "render target {width}x{height} needs a readback buffer of {plane} bytes, above \
+                 the adapter's max_buffer_size of {max_buffer}"
             ))
             .into());
         }

@@ -310,3 +310,74 @@ fn a_target_beyond_the_adapter_is_an_error_not_a_panic() {
     let target = device.read_target().unwrap();
     assert!(target.color.iter().all(|&c| c == 0xFF00FF00));
 }
+
+/// The target is read back one plane at a time, so a target whose colour and depth together
+/// exceed the adapter's `max_buffer_size` reads back (a 16384x16384 target failed at readback
+/// on lavapipe: 2 GiB > 2 GiB - 1); one whose single plane exceeds it is refused when created,
+/// naming the limit. Shown here on a device whose buffers are limited to 1 MiB.
+#[test]
+fn a_target_is_read_back_within_the_adapters_buffer_size() {
+    use pointillist_core::{Backend, Device};
+    use pointillist_gpu::{ContextOptions, GpuBackend};
+    if gpu_context().is_none() {
+        return;
+    }
+    const MAX_BUFFER: u64 = 1 << 20;
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        force_fallback_adapter: false,
+        compatible_surface: None,
+        apply_limit_buckets: false,
+    }))
+    .expect("an adapter");
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("small buffers"),
+        required_limits: wgpu::Limits {
+            max_buffer_size: MAX_BUFFER,
+            ..adapter.limits()
+        },
+        ..Default::default()
+    }))
+    .expect("a device");
+    let ctx = GpuContext::from_device(adapter.get_info(), device, queue, ContextOptions::default());
+    assert_eq!(ctx.limits().max_buffer_size, MAX_BUFFER);
+    // 512x512: each plane is 1 MiB, both together 2 MiB.
+    let mut device = Device::new(
+        GpuBackend::with_context(Arc::clone(&ctx)),
+        DeviceDesc {
+            clear_color: 0xFF20_4060,
+            clear_depth: 0.5,
+            ..DeviceDesc::new(512, 512)
+        },
+    )
+    .unwrap();
+    device
+        .draw_vertices(&[XyzRhwPsizeDiffuse {
+            position: [500.0, 10.0, 0.25, 1.0],
+            psize: 1.0,
+            diffuse: 0xFF00_FF00,
+        }])
+        .unwrap();
+    let target = device.read_target().expect("read back plane by plane");
+    assert_eq!((target.width, target.height), (512, 512));
+    let at = 10 * 512 + 500;
+    assert_eq!(target.color[at], 0xFF00_FF00);
+    assert_eq!(
+        target.color.iter().filter(|&&c| c == 0xFF20_4060).count(),
+        512 * 512 - 1
+    );
+    let others = target.depth.iter().enumerate().filter(|&(i, _)| i != at);
+    assert!(others.clone().all(|(_, &d)| d == 0.5));
+    assert_eq!(others.count(), 512 * 512 - 1);
+    // 513 rows: one plane is 1 MiB + 2 KiB.
+    let e = GpuBackend::with_context(ctx)
+        .create_target(512, 513, 0, 1.0)
+        .expect_err("a plane beyond max_buffer_size");
+    assert_eq!(
+        e.to_string(),
+        "not supported by the GPU backend: render target 512x513 needs a readback buffer of \
+         1050624 bytes, above the adapter's max_buffer_size of 1048576"
+    );
+}

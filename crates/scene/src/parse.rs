@@ -656,9 +656,17 @@ impl Parser<'_> {
         }
         let len = check_readable(&self.src, v, path, &file, "texture")?;
         self.inputs.push(file.clone());
-        // The file's bytes are held while it is decoded.
+        // The file's bytes and the decoder's buffers are held while it is decoded: charged
+        // from the header, before decoding.
         let before = self.memory;
-        self.charge(Charge::Textures, len, v, path, "this texture file")?;
+        let decoding = len.saturating_add(pointillist_image::texture_decode_bytes(&file));
+        self.charge(
+            Charge::Textures,
+            decoding,
+            v,
+            path,
+            "decoding this texture file",
+        )?;
         self.memory = before;
         let texture = pointillist_image::load_texture(&file).map_err(|e| {
             self.src

@@ -158,6 +158,48 @@ fn a_scene_over_the_memory_budget_is_refused_at_the_key_that_crosses_it() {
     assert!(parse(src, Path::new("half.toml")).is_ok());
 }
 
+/// A texture is charged from its header before it is decoded: the decoder's output and its
+/// mip chain (a 2 MB 16-bit PNG of 16384x16384 decoded completely, 2.4 GB resident, before the
+/// budget saw it). Here a PNG that is only a header: refused by the budget, never decoded.
+#[test]
+fn a_texture_is_charged_from_its_header_before_it_is_decoded() {
+    let dir = scratch("header");
+    // Signature and IHDR: 16384x8192, 16-bit RGBA; no image data.
+    let mut png = b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR".to_vec();
+    png.extend_from_slice(&16384u32.to_be_bytes());
+    png.extend_from_slice(&8192u32.to_be_bytes());
+    png.extend_from_slice(&[16, 6, 0, 0, 0, 0, 0, 0, 0]);
+    std::fs::write(dir.join("huge.png"), &png).unwrap();
+    let file = dir.join("s.toml");
+    let scene = |height: u32| {
+        format!(
+            "format = 1\n[target]\nwidth = 16384\nheight = {height}\n\
+             [[texture]]\nstage = 0\nfile = \"huge.png\"\n"
+        )
+    };
+    // 3 GiB of target, then 512 MiB of decoder output and a 682.7 MiB mip chain.
+    assert_eq!(
+        err_at(&scene(16384), &file),
+        format!(
+            "{}:7:8: texture[0].file: decoding this texture file takes 1.2 GiB, which brings the \
+             render to 4.2 GiB, above the memory budget of 4.0 GiB (target 3.0 GiB, textures \
+             1.2 GiB, vertices 0 B, particles 0 B)",
+            file.display()
+        )
+    );
+    // With room for it, the file is decoded, and fails as the truncated PNG it is.
+    let e = err_at(&scene(1024), &file);
+    assert!(e.contains("texture[0].file: cannot load texture"), "{e}");
+    assert_eq!(
+        pointillist_image::texture_decode_bytes(&dir.join("huge.png")),
+        16384 * 8192 * 4
+            + (0..15)
+                .map(|i| (16384u64 >> i).max(1) * (8192u64 >> i).max(1) * 4)
+                .sum::<u64>()
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_texture_that_does_not_decode_names_the_file_and_the_reason() {
     let dir = scratch("texture");

@@ -49,6 +49,11 @@ cases!("golden":
     starfield,
 );
 
+/// The repository's root: generated assets are named from there.
+fn repo_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
 fn scenes_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
 }
@@ -92,7 +97,7 @@ fn diff_marks_differing_pixels_red_on_dimmed_expected() {
 // ---------------------------------------------------------------------------------------------
 // Generated scene assets.
 
-/// A generated file: its path below `scenes/` and its content.
+/// A generated file: its path from the repository's root and its content.
 enum Asset {
     /// An RGBA8 PNG, compared by pixels (the encoder's bytes may change between versions).
     Png(&'static str, Image),
@@ -212,6 +217,25 @@ fn vertex_bytes(rows: &[(Vec<f32>, u32)]) -> Vec<u8> {
     out
 }
 
+/// `crates/conformance/cases/5-pixels/textures/grey_levels.dds`: 8x8 A8R8G8B8 with its four levels
+/// stored, flat opaque greys 0x00, 0x40, 0x80, 0xC0, so a sprite shows which level (or blend of
+/// two) it sampled (cases `mip_level_*`). Generated levels would all be black.
+fn grey_levels_dds() -> Vec<u8> {
+    let levels: Vec<(u32, u32, Vec<u32>)> = [0x00u32, 0x40, 0x80, 0xC0]
+        .iter()
+        .enumerate()
+        .map(|(i, g)| {
+            let side = 8 >> i;
+            (
+                side,
+                side,
+                vec![0xFF00_0000 | (g * 0x0001_0101); (side * side) as usize],
+            )
+        })
+        .collect();
+    dds_a8r8g8b8(&levels)
+}
+
 /// `scenes/vertices/caps_points.bin`, `XYZRHW | PSIZE | DIFFUSE` (24 bytes a vertex): five
 /// pre-transformed points at Y = 40, X = 10, 30, 56, 92, 150 with per-vertex sizes 4, 8, 16,
 /// 32, 72 (the last more than the `no_per_vertex_size` profile's 64) and colours red, yellow,
@@ -271,22 +295,26 @@ fn spiral_points() -> Vec<u8> {
 }
 
 fn particle_asset() -> Asset {
-    Asset::Png("textures/particle.png", particle_texture())
+    Asset::Png("scenes/textures/particle.png", particle_texture())
 }
 
 fn data_assets() -> Vec<Asset> {
     vec![
-        Asset::Bytes("textures/mip_levels.dds", mip_levels_dds()),
-        Asset::Bytes("vertices/caps_points.bin", caps_points()),
-        Asset::Bytes("vertices/spiral.bin", spiral_points()),
+        Asset::Bytes("scenes/textures/mip_levels.dds", mip_levels_dds()),
+        Asset::Bytes("scenes/vertices/caps_points.bin", caps_points()),
+        Asset::Bytes("scenes/vertices/spiral.bin", spiral_points()),
+        Asset::Bytes(
+            "crates/conformance/cases/5-pixels/textures/grey_levels.dds",
+            grey_levels_dds(),
+        ),
     ]
 }
 
 fn write_asset(asset: &Asset) {
     match asset {
-        Asset::Png(rel, image) => write_png(&scenes_dir().join(rel), image).unwrap(),
+        Asset::Png(rel, image) => write_png(&repo_root().join(rel), image).unwrap(),
         Asset::Bytes(rel, bytes) => {
-            let path = scenes_dir().join(rel);
+            let path = repo_root().join(rel);
             if let Some(dir) = path.parent() {
                 fs::create_dir_all(dir).expect("create the asset folder");
             }
@@ -302,7 +330,7 @@ fn generate_particle_texture() {
 }
 
 #[test]
-#[ignore = "writes the scenes' DDS texture and vertex files"]
+#[ignore = "writes the scenes' and the cases' DDS textures and vertex files"]
 fn generate_scene_data() {
     for asset in data_assets() {
         write_asset(&asset);
@@ -316,21 +344,21 @@ fn generated_assets_are_up_to_date() {
     for asset in &assets {
         match asset {
             Asset::Png(rel, image) => {
-                let committed = read_png(&scenes_dir().join(rel)).unwrap();
+                let committed = read_png(&repo_root().join(rel)).unwrap();
                 assert!(
                     committed == *image,
-                    "scenes/{rel} differs from its generator; run the ignored generators"
+                    "{rel} differs from its generator; run the ignored generators"
                 );
                 // Sanity: the encoder accepts it (what the generator writes).
                 encode_png_rgba8(image.width, image.height, &image.rgba).unwrap();
             }
             Asset::Bytes(rel, bytes) => {
-                let path = scenes_dir().join(rel);
+                let path = repo_root().join(rel);
                 let committed =
                     fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
                 assert!(
                     committed == *bytes,
-                    "scenes/{rel} differs from its generator; run the ignored generators"
+                    "{rel} differs from its generator; run the ignored generators"
                 );
             }
         }

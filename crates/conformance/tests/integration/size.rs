@@ -1,486 +1,77 @@
-//! SPEC section 2, point size: the rules through the public device API, on both backends.
-
-use std::collections::BTreeSet;
+//! SPEC section 2, point size: the cases of `cases/2-size/` on every backend, and the state
+//! read-back a scene cannot state (defaults, raw bits).
 
 use crate::common::*;
-use pointillist_core::TransformType;
 use pointillist_core::caps::Caps;
-use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 
 type Rs = RenderState;
-
-cases!("2-size":
-    max_wins_over_min,
-);
 type Tss = TextureStageState;
 
-// ---------------------------------------------------------------------------------------------
-// 2.1 input size
-
-#[test]
-fn spec_2_1_pointsize_state_without_psize() {
-    let mut d = dev(32, 32);
-    d.set_render_state(Rs::POINTSIZE, 5.0f32);
-    rhw_point(&mut d, 16.0, 16.0, 0.5, WHITE);
-    // [13.5, 18.5) covers 14..=18
-    assert_square(&target(&mut d), BLACK, 14, 14, 18, 18);
-}
-
-#[test]
-fn spec_2_1_vertex_psize_overrides_pointsize_with_the_cap() {
-    let mut d = dev(32, 32);
-    d.set_render_state(Rs::POINTSIZE, 3.0f32);
-    draw(&mut d, RHW_P, &[f(16.0), f(16.0), f(0.5), f(1.0), f(7.0)]);
-    assert_square(&target(&mut d), BLACK, 13, 13, 19, 19);
-
-    // Transformed vertices too: identity transforms, origin lands on (16, 16).
-    let mut d = dev(32, 32);
-    d.set_render_state(Rs::POINTSIZE, 3.0f32);
-    draw(&mut d, XYZ_P, &[f(0.0), f(0.0), f(0.5), f(9.0)]);
-    assert_square(&target(&mut d), BLACK, 12, 12, 20, 20);
-}
-
-#[test]
-fn spec_2_1_psize_accepted_and_ignored_without_the_cap() {
-    let caps = Caps {
-        per_vertex_point_size: false,
-        ..Caps::reference()
-    };
-    for fvf in [RHW_P, XYZ_P] {
-        let mut d = dev_caps(32, 32, caps);
-        d.set_render_state(Rs::POINTSIZE, 3.0f32);
-        let words = if fvf == RHW_P {
-            vec![f(16.0), f(16.0), f(0.5), f(1.0), f(11.0)]
-        } else {
-            vec![f(0.0), f(0.0), f(0.5), f(11.0)]
-        };
-        d.draw_point_list(fvf, &bytes(&words))
-            .expect("a PSIZE format is accepted without the cap");
-        assert_square(&target(&mut d), BLACK, 15, 15, 17, 17);
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// 2.2 scaling
-
-#[test]
-fn spec_2_2_pretransformed_points_are_never_scaled() {
-    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-        d.set_render_state(Rs::POINTSCALEENABLE, true);
-        d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-        d.set_render_state(Rs::POINTSCALE_C, 4.0f32);
-        d.set_render_state(Rs::POINTSIZE, 5.0f32);
-    });
-    assert_eq!(px, rect(14, 14, 18, 18));
-}
-
-#[test]
-fn spec_2_2_scale_off_size_is_in_pixels() {
-    // A transformed point with scaling off: 5 pixels whatever the distance and viewport.
-    let mut d = dev(32, 32);
-    d.set_render_state(Rs::POINTSIZE, 5.0f32);
-    d.set_render_state(Rs::POINTSCALE_A, 100.0f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.9)]);
-    assert_square(&target(&mut d), BLACK, 14, 14, 18, 18);
-}
-
-#[test]
-fn spec_2_2_scale_uses_viewport_height_not_target_height_or_width() {
-    // Target 128x96, viewport 64x40 at (16, 8): Vh = 40. A = 1: Ss = Vh * Si = 40 * 0.375 = 15.
-    // (Target height would give 36, viewport width 24, target width 48.)
-    let mut d = dev(128, 96);
-    d.set_viewport(viewport(16, 8, 64, 40)).unwrap();
-    d.set_render_state(Rs::POINTSCALEENABLE, true);
-    d.set_render_state(Rs::POINTSIZE, 0.375f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.5)]);
-    // Centre X = 16 + 64/2 = 48, Y = 8 + 40/2 = 28; 15 pixels: 41..=55, 21..=35.
-    assert_square(&target(&mut d), BLACK, 41, 21, 55, 35);
-}
-
-/// 128x128 target; projection x/8, y/8, z/16 so that eye positions of a few units are visible.
-fn eye_device() -> TestDevice {
-    let mut d = dev(128, 128);
-    d.set_transform(TransformType::Projection, scale(0.125, 0.125, 0.0625));
-    d.set_render_state(Rs::POINTSCALEENABLE, true);
-    d
-}
-
-#[test]
-fn spec_2_2_scale_uses_euclidean_eye_distance() {
-    // C = 1: Ss = Vh * Si / De. Si = 75/128: 15 pixels at De = 5.
-    // Eye (3, 4, 0): De = 5, |Ze| = 0 (which would give an infinite size, clamped to 8192).
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-    d.set_render_state(Rs::POINTSCALE_C, 1.0f32);
-    d.set_render_state(Rs::POINTSIZE, 75.0f32 / 128.0);
-    draw(&mut d, XYZ, &[f(3.0), f(4.0), f(0.0)]);
-    // X = 64 + 3/8 * 64 = 88, Y = 64 - 4/8 * 64 = 32.
-    assert_square(&target(&mut d), BLACK, 81, 25, 95, 39);
-
-    // Eye (0, 3, 4): De = 5 -> 15 pixels; |Ze| = 4 would give 18.75 (79..=97).
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-    d.set_render_state(Rs::POINTSCALE_C, 1.0f32);
-    d.set_render_state(Rs::POINTSIZE, 75.0f32 / 128.0);
-    draw(&mut d, XYZ, &[f(0.0), f(3.0), f(4.0)]);
-    // X = 64, Y = 64 - 3/8 * 64 = 40.
-    assert_square(&target(&mut d), BLACK, 57, 33, 71, 47);
-}
-
-#[test]
-fn spec_2_2_eye_distance_is_taken_after_world_and_view_not_projection() {
-    // Object origin, WORLD +1 x, VIEW +(2, 4): eye (3, 4, 0), De = 5 (clip-space distance would
-    // be 0.625, object-space 0).
-    let mut d = eye_device();
-    d.set_transform(TransformType::World, translate(1.0, 0.0, 0.0));
-    d.set_transform(TransformType::View, translate(2.0, 4.0, 0.0));
-    d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-    d.set_render_state(Rs::POINTSCALE_C, 1.0f32);
-    d.set_render_state(Rs::POINTSIZE, 75.0f32 / 128.0);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.0)]);
-    assert_square(&target(&mut d), BLACK, 81, 25, 95, 39);
-}
-
-#[test]
-fn spec_2_2_scale_terms_a_b_c() {
-    struct Case {
-        a: f32,
-        b: f32,
-        c: f32,
-        si: f32,
-        eye: [f32; 3],
-    }
-    // Each case gives Ss = 15 exactly on paper.
-    let cases = [
-        // A only: sqrt(1/4) = 1/2; 128 * Si / 2 = 15.
-        Case {
-            a: 4.0,
-            b: 0.0,
-            c: 0.0,
-            si: 15.0 / 64.0,
-            eye: [0.0, 4.0, 0.0],
-        },
-        // B only, De = 4: sqrt(1/4).
-        Case {
-            a: 0.0,
-            b: 1.0,
-            c: 0.0,
-            si: 15.0 / 64.0,
-            eye: [0.0, 4.0, 0.0],
-        },
-        // C only, De = 2: sqrt(1/4).
-        Case {
-            a: 0.0,
-            b: 0.0,
-            c: 1.0,
-            si: 15.0 / 64.0,
-            eye: [0.0, 0.0, 2.0],
-        },
-        // 1 + 2*3 + 1*9 = 16 at De = 3: sqrt(1/16) = 1/4; 128 * Si / 4 = 15.
-        Case {
-            a: 1.0,
-            b: 2.0,
-            c: 1.0,
-            si: 15.0 / 32.0,
-            eye: [0.0, 3.0, 0.0],
-        },
-    ];
-    for (n, case) in cases.iter().enumerate() {
-        let mut d = eye_device();
-        d.set_render_state(Rs::POINTSCALE_A, case.a);
-        d.set_render_state(Rs::POINTSCALE_B, case.b);
-        d.set_render_state(Rs::POINTSCALE_C, case.c);
-        d.set_render_state(Rs::POINTSIZE, case.si);
-        draw(
-            &mut d,
-            XYZ,
-            &[f(case.eye[0]), f(case.eye[1]), f(case.eye[2])],
-        );
-        let x = 64.0 + case.eye[0] / 8.0 * 64.0;
-        let y = 64.0 - case.eye[1] / 8.0 * 64.0;
-        let (x, y) = (x as u32, y as u32);
-        let t = target(&mut d);
-        assert_eq!(
-            drawn(&t, BLACK),
-            rect(x - 7, y - 7, x + 7, y + 7),
-            "case {n}"
-        );
-    }
-}
-
-#[test]
-fn spec_2_2_per_vertex_size_is_scaled_too() {
-    // PSIZE 75/128 at De = 5 with C = 1: 15 pixels (POINTSIZE 1 would give 0.2 -> MIN 1).
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-    d.set_render_state(Rs::POINTSCALE_C, 1.0f32);
-    draw(&mut d, XYZ_P, &[f(3.0), f(4.0), f(0.0), f(75.0 / 128.0)]);
-    assert_square(&target(&mut d), BLACK, 81, 25, 95, 39);
-}
-
-// ---------------------------------------------------------------------------------------------
-// 2.3 clamps
-
-#[test]
-fn spec_2_3_min_raises_and_max_lowers_the_size() {
-    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-        d.set_render_state(Rs::POINTSIZE, 1.0f32);
-        d.set_render_state(Rs::POINTSIZE_MIN, 7.0f32);
-    });
-    assert_eq!(px, rect(13, 13, 19, 19));
-    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-        d.set_render_state(Rs::POINTSIZE, 21.0f32);
-        d.set_render_state(Rs::POINTSIZE_MAX, 3.0f32);
-    });
-    assert_eq!(px, rect(15, 15, 17, 17));
-}
-
-#[test]
-fn spec_2_3_caps_max_point_size_bounds_pointsize_max() {
-    let caps = Caps {
-        max_point_size: 9.0,
-        ..Caps::reference()
-    };
-    let mut d = dev_caps(32, 32, caps);
-    d.set_render_state(Rs::POINTSIZE_MAX, 100.0f32);
-    d.set_render_state(Rs::POINTSIZE, 25.0f32);
-    rhw_point(&mut d, 16.0, 16.0, 0.5, WHITE);
-    assert_square(&target(&mut d), BLACK, 12, 12, 20, 20);
-}
-
-#[test]
-fn spec_2_3_clamp_applies_to_scaled_sizes() {
-    // A = 1, Vh = 128, Si = 0.5: Ss = 64, clamped to MAX 11.
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSIZE, 0.5f32);
-    d.set_render_state(Rs::POINTSIZE_MAX, 11.0f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.0)]);
-    assert_square(&target(&mut d), BLACK, 59, 59, 69, 69);
-    // Si = 1/128: Ss = 1, raised to MIN 9.
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSIZE, 1.0f32 / 128.0);
-    d.set_render_state(Rs::POINTSIZE_MIN, 9.0f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.0)]);
-    assert_square(&target(&mut d), BLACK, 60, 60, 68, 68);
-}
-
-#[test]
-fn spec_2_3_nan_size_counts_as_zero() {
-    for nan in [
-        f32::NAN,
-        f32::from_bits(0x7FC0_1234),
-        f32::from_bits(0xFFBF_0001),
-    ] {
-        // MIN 0: S = 0, nothing drawn.
-        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-            d.set_render_state(Rs::POINTSIZE, nan);
-            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-        });
-        assert!(px.is_empty(), "{nan:?}: {px:?}");
-        // MIN 3: S = 3.
-        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-            d.set_render_state(Rs::POINTSIZE, nan);
-            d.set_render_state(Rs::POINTSIZE_MIN, 3.0f32);
-        });
-        assert_eq!(px, rect(15, 15, 17, 17));
-    }
-}
-
-#[test]
-fn spec_2_3_negative_size_counts_as_zero() {
-    for neg in [-5.0f32, -0.0, f32::NEG_INFINITY, -f32::MIN_POSITIVE] {
-        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-            d.set_render_state(Rs::POINTSIZE, neg);
-            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-        });
-        assert!(px.is_empty(), "{neg}: {px:?}");
-        // Not |size|: -5 with MIN 3 is 3, not 5.
-        let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-            d.set_render_state(Rs::POINTSIZE, neg);
-            d.set_render_state(Rs::POINTSIZE_MIN, 3.0f32);
-        });
-        assert_eq!(px, rect(15, 15, 17, 17), "{neg}");
-    }
-}
-
-#[test]
-fn spec_2_3_positive_infinity_clamps_to_hi() {
-    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-        d.set_render_state(Rs::POINTSIZE, f32::INFINITY);
-        d.set_render_state(Rs::POINTSIZE_MAX, 7.0f32);
-    });
-    assert_eq!(px, rect(13, 13, 19, 19));
-    // hi = caps.max_point_size when MAX is larger.
-    let caps = Caps {
-        max_point_size: 5.0,
-        ..Caps::reference()
-    };
-    let mut d = dev_caps(32, 32, caps);
-    d.set_render_state(Rs::POINTSIZE_MAX, f32::INFINITY);
-    d.set_render_state(Rs::POINTSIZE, f32::INFINITY);
-    rhw_point(&mut d, 16.0, 16.0, 0.5, WHITE);
-    assert_square(&target(&mut d), BLACK, 14, 14, 18, 18);
-}
-
-#[test]
-fn spec_2_3_scaled_nan_and_infinity() {
-    // A = B = C = 0: sqrt(1/0) = inf, so Ss = +inf -> hi (MAX 9).
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-    d.set_render_state(Rs::POINTSIZE, 0.5f32);
-    d.set_render_state(Rs::POINTSIZE_MAX, 9.0f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.0)]);
-    assert_square(&target(&mut d), BLACK, 60, 60, 68, 68);
-    // Si = 0 then gives 0 * inf = NaN, which counts as 0 -> MIN 5.
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSCALE_A, 0.0f32);
-    d.set_render_state(Rs::POINTSIZE, 0.0f32);
-    d.set_render_state(Rs::POINTSIZE_MIN, 5.0f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.0)]);
-    assert_square(&target(&mut d), BLACK, 62, 62, 66, 66);
-    // A negative denominator: sqrt of a negative is NaN -> 0 -> MIN 0 draws nothing.
-    let mut d = eye_device();
-    d.set_render_state(Rs::POINTSCALE_A, -1.0f32);
-    d.set_render_state(Rs::POINTSIZE, 0.5f32);
-    d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.0)]);
-    assert_empty(&target(&mut d), BLACK);
-}
-
-#[test]
-fn spec_2_3_per_vertex_sizes_are_clamped_too() {
-    // (psize, min, max, expected pixel range on each axis around 16, or None for nothing)
-    type Case = (f32, f32, f32, Option<(u32, u32)>);
-    let cases: [Case; 6] = [
-        (100.0, 1.0, 9.0, Some((12, 20))),
-        (0.5, 3.0, 64.0, Some((15, 17))),
-        (f32::NAN, 0.0, 64.0, None),
-        (f32::NAN, 5.0, 64.0, Some((14, 18))),
-        (-4.0, 3.0, 64.0, Some((15, 17))),
-        (f32::INFINITY, 0.0, 7.0, Some((13, 19))),
-    ];
-    for (psize, min, max, want) in cases {
-        let mut d = dev(32, 32);
-        d.set_render_state(Rs::POINTSIZE_MIN, min);
-        d.set_render_state(Rs::POINTSIZE_MAX, max);
-        draw(&mut d, RHW_P, &[f(16.0), f(16.0), f(0.5), f(1.0), f(psize)]);
-        let got = drawn(&target(&mut d), BLACK);
-        let want = want.map_or_else(BTreeSet::new, |(a, b)| rect(a, a, b, b));
-        assert_eq!(got, want, "psize {psize} min {min} max {max}");
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// 2.4 single-pixel devices
-
-#[test]
-fn spec_2_4_max_point_size_at_most_one_draws_one_pixel() {
-    for max in [1.0f32, 0.5, 0.0] {
-        let caps = Caps {
-            max_point_size: max,
-            ..Caps::reference()
-        };
-        let setups: [&dyn Fn(&mut TestDevice); 6] = [
-            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE, 20.0f32),
-            &|d: &mut TestDevice| {
-                d.set_render_state(Rs::POINTSIZE, 0.0f32);
-                d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-            },
-            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE, f32::NAN),
-            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE_MIN, 10.0f32),
-            &|d: &mut TestDevice| d.set_render_state(Rs::POINTSIZE_MAX, 0.0f32),
-            &|d: &mut TestDevice| {
-                d.set_render_state(Rs::POINTSCALEENABLE, true);
-                d.set_render_state(Rs::POINTSIZE, 50.0f32);
-            },
-        ];
-        for (n, setup) in setups.iter().enumerate() {
-            for (x, y, want) in [(10.0f32, 12.0f32, (10, 12)), (10.5, 12.4, (10, 12))] {
-                let mut d = dev_caps(32, 32, caps);
-                setup(&mut d);
-                rhw_point(&mut d, x, y, 0.5, WHITE);
-                // With PSIZE as well.
-                draw(&mut d, RHW_P, &[f(20.0), f(20.0), f(0.5), f(1.0), f(30.0)]);
-                let got = drawn(&target(&mut d), BLACK);
-                let want: BTreeSet<_> = [want, (20, 20)].into_iter().collect();
-                assert_eq!(got, want, "max {max} setup {n} at ({x}, {y})");
-            }
-        }
-    }
-}
-
-#[test]
-fn spec_2_4_single_pixel_transformed_points() {
-    let mut d = dev_caps(32, 32, Caps::profile("single_pixel").unwrap());
-    d.set_render_state(Rs::POINTSCALEENABLE, true);
-    d.set_render_state(Rs::POINTSIZE, 8.0f32);
-    draw(&mut d, XYZ_P, &[f(0.0), f(0.0), f(0.5), f(12.0)]);
-    assert_square(&target(&mut d), BLACK, 16, 16, 16, 16);
-}
-
-// ---------------------------------------------------------------------------------------------
-// 2.5 exact sizes
-
-#[test]
-fn spec_2_5_sizes_are_exact_f32_not_rounded() {
-    // (size, centre, first, last) along each axis
-    let cases: [(f32, f32, u32, u32); 7] = [
-        (1.5, 16.0, 16, 16),   // [15.25, 16.75)
-        (2.0, 16.0, 15, 16),   // [15, 17)
-        (2.5, 16.0, 15, 17),   // [14.75, 17.25)
-        (2.9, 16.0, 15, 17),   // rounding up to 3 would not change it, but:
-        (3.1, 16.5, 15, 18),   // [14.95, 18.05): 4 pixels, a rounded 3 would give 15..=17
-        (30.75, 64.0, 49, 79), // the SPEC example
-        (0.5, 16.0, 16, 16),   // [15.75, 16.25)
-    ];
-    for (s, c, a, b) in cases {
-        let mut d = dev(128, 128);
-        d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-        d.set_render_state(Rs::POINTSIZE, s);
-        rhw_point(&mut d, c, c, 0.5, WHITE);
-        assert_eq!(
-            drawn(&target(&mut d), BLACK),
-            rect(a, a, b, b),
-            "size {s} at {c}"
-        );
-    }
-}
-
-#[test]
-fn spec_2_5_size_zero_draws_nothing() {
-    for (x, y) in [(16.0f32, 16.0f32), (16.5, 16.5), (0.0, 0.0)] {
-        let px = rhw_pixels(32, 32, x, y, |d| {
-            d.set_render_state(Rs::POINTSIZE, 0.0f32);
-            d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-        });
-        assert!(px.is_empty(), "({x}, {y}): {px:?}");
-    }
-    // Per-vertex 0 too.
-    let mut d = dev(32, 32);
-    d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-    draw(&mut d, RHW_P, &[f(16.0), f(16.0), f(0.5), f(1.0), f(0.0)]);
-    assert_empty(&target(&mut d), BLACK);
-}
-
-#[test]
-fn spec_2_5_square_covering_no_centre_draws_nothing() {
-    // Size 0.5 at 16.5: [16.25, 16.75) holds no integer.
-    let px = rhw_pixels(32, 32, 16.5, 16.5, |d| {
-        d.set_render_state(Rs::POINTSIZE, 0.5f32);
-        d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-    });
-    assert!(px.is_empty(), "{px:?}");
-    // Only one axis missing is enough.
-    let px = rhw_pixels(32, 32, 16.0, 16.5, |d| {
-        d.set_render_state(Rs::POINTSIZE, 0.9f32);
-        d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-    });
-    assert!(px.is_empty(), "{px:?}");
-}
-
-// ---------------------------------------------------------------------------------------------
-// 2.6 defaults
+cases!("2-size":
+    caps_max_point_size_bounds_pointsize_max,
+    clamp_applies_to_scaled_sizes_max,
+    clamp_applies_to_scaled_sizes_min,
+    d3d8_defaults,
+    d3d8_min_zero_keeps_a_half_pixel_size,
+    d3d8_size_zero_draws_nothing,
+    default_max_is_the_caps_max,
+    default_min_raises_a_half_pixel_size,
+    default_pointsize_is_one_pixel,
+    default_scale_factors,
+    default_scale_off,
+    default_sprites_off_use_vertex_texture_coordinates,
+    exact_size_0_5_on_a_centre,
+    exact_size_1_5,
+    exact_size_2,
+    exact_size_2_5,
+    exact_size_2_9,
+    exact_size_30_75,
+    exact_size_3_1_is_not_rounded,
+    eye_distance_is_taken_after_world_and_view_not_projection,
+    max_lowers_the_size,
+    max_point_size_0_5_draws_one_pixel,
+    max_point_size_0_draws_one_pixel,
+    max_point_size_1_draws_one_pixel,
+    max_wins_over_min,
+    min_raises_the_size,
+    nan_min_is_no_lower_bound,
+    nan_size_counts_as_zero,
+    nan_size_is_raised_to_min,
+    negative_size_counts_as_zero,
+    negative_size_is_raised_to_min_not_its_magnitude,
+    per_vertex_size_is_scaled_too,
+    per_vertex_sizes_are_clamped_too,
+    pointsize_max_above_the_caps_is_bounded_by_the_caps,
+    pointsize_state_without_psize,
+    positive_infinity_clamps_to_max,
+    positive_infinity_clamps_to_the_caps_max,
+    pretransformed_per_vertex_sizes_are_not_scaled,
+    pretransformed_points_are_never_scaled,
+    pretransformed_points_with_per_vertex_sizes,
+    psize_ignored_without_the_cap,
+    psize_ignored_without_the_cap_transformed,
+    scale_off_size_is_in_pixels,
+    scale_term_a,
+    scale_term_b,
+    scale_term_c,
+    scale_terms_a_b_c,
+    scale_uses_euclidean_eye_distance,
+    scale_uses_euclidean_eye_distance_not_depth,
+    scale_uses_viewport_height_not_target_height_or_width,
+    scaled_infinity_clamps_to_max,
+    scaled_nan_counts_as_zero,
+    scaled_negative_denominator_draws_nothing,
+    scaling_in_a_tall_viewport_uses_its_height,
+    scaling_in_a_wide_viewport_uses_its_height,
+    single_pixel_transformed_points,
+    size_zero_draws_nothing,
+    sizes_below_one_pixel_at_and_between_centres,
+    square_covering_no_centre_draws_nothing,
+    subnormal_size_is_a_tiny_size,
+    vertex_psize_overrides_pointsize,
+    vertex_psize_overrides_pointsize_transformed,
+);
 
 #[test]
 fn spec_2_6_d3d9_defaults() {
@@ -495,51 +86,10 @@ fn spec_2_6_d3d9_defaults() {
     assert_eq!(d.render_state(Rs::POINTSPRITEENABLE), 0);
 }
 
+/// The pixels of these defaults: cases `d3d8_min_zero_keeps_a_half_pixel_size` and
+/// `d3d8_size_zero_draws_nothing`.
 #[test]
-fn spec_2_6_d3d9_default_states_in_pixels() {
-    // POINTSIZE 1: one pixel.
-    let px = rhw_pixels(16, 16, 8.0, 8.0, |_| {});
-    assert_eq!(px, rect(8, 8, 8, 8));
-    // MIN 1: size 0.5 is raised to 1 and covers [16, 17) at 16.5 (D3D8 would draw nothing).
-    let px = rhw_pixels(32, 32, 16.5, 16.5, |d| {
-        d.set_render_state(Rs::POINTSIZE, 0.5f32)
-    });
-    assert_eq!(px, rect(16, 16, 16, 16));
-    // MAX = caps (8192): a 100-pixel point is not limited.
-    let px = rhw_pixels(128, 128, 64.0, 64.0, |d| {
-        d.set_render_state(Rs::POINTSIZE, 101.0f32)
-    });
-    assert_eq!(px, rect(14, 14, 114, 114));
-    // POINTSCALEENABLE off: a transformed point is POINTSIZE pixels (no Vh factor).
-    let mut d = dev(32, 32);
-    d.set_render_state(Rs::POINTSIZE, 3.0f32);
-    draw(&mut d, XYZ, &[f(0.0), f(0.0), f(0.5)]);
-    assert_square(&target(&mut d), BLACK, 15, 15, 17, 17);
-    // With scaling enabled, A = 1, B = C = 0: Ss = Vh * Si = 32 * 3/32 = 3.
-    let mut d = dev(32, 32);
-    d.set_render_state(Rs::POINTSCALEENABLE, true);
-    d.set_render_state(Rs::POINTSIZE, 3.0f32 / 32.0);
-    draw(&mut d, XYZ, &[f(0.5), f(0.0), f(0.5)]);
-    assert_square(&target(&mut d), BLACK, 23, 15, 25, 17);
-    // POINTSPRITEENABLE off: the vertex's texture coordinates at every pixel.
-    let mut d = dev(32, 32);
-    d.set_texture(0, Some(tex(2, 1, vec![0xFF11_1111, 0xFF22_2222])))
-        .unwrap();
-    d.set_render_state(Rs::POINTSIZE, 4.0f32);
-    let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::TEX1.0);
-    draw(
-        &mut d,
-        fvf,
-        &[f(16.0), f(16.0), f(0.5), f(1.0), f(0.75), f(0.5)],
-    );
-    let t = target(&mut d);
-    for (x, y) in rect(14, 14, 17, 17) {
-        assert_eq!(t.pixel(x, y), 0xFF22_2222, "({x}, {y})");
-    }
-}
-
-#[test]
-fn spec_2_6_d3d8_pointsize_min_defaults_to_zero() {
+fn spec_2_6_d3d8_defaults() {
     let d8 = dev_api(32, 32, Api::D3d8, BLACK);
     assert_eq!(rs_f32(&d8, Rs::POINTSIZE_MIN), 0.0);
     assert_eq!(rs_f32(&d8, Rs::POINTSIZE), 1.0);
@@ -549,16 +99,6 @@ fn spec_2_6_d3d8_pointsize_min_defaults_to_zero() {
     assert_eq!(rs_f32(&d8, Rs::POINTSCALE_C), 0.0);
     assert_eq!(d8.render_state(Rs::POINTSCALEENABLE), 0);
     assert_eq!(d8.render_state(Rs::POINTSPRITEENABLE), 0);
-    // In pixels: size 0.5 at 16.5 is not raised and covers no centre.
-    let mut d8 = dev_api(32, 32, Api::D3d8, BLACK);
-    d8.set_render_state(Rs::POINTSIZE, 0.5f32);
-    rhw_point(&mut d8, 16.5, 16.5, 0.5, WHITE);
-    assert_empty(&target(&mut d8), BLACK);
-    // And size 0 draws nothing without touching MIN.
-    let mut d8 = dev_api(32, 32, Api::D3d8, BLACK);
-    d8.set_render_state(Rs::POINTSIZE, 0.0f32);
-    rhw_point(&mut d8, 16.0, 16.0, 0.5, WHITE);
-    assert_empty(&target(&mut d8), BLACK);
 }
 
 #[test]
@@ -580,9 +120,6 @@ fn spec_2_6_pointsize_max_defaults_to_the_caps_max() {
     };
     assert_eq!(rs_f32(&dev_caps(8, 8, caps), Rs::POINTSIZE_MAX), 37.5);
 }
-
-// ---------------------------------------------------------------------------------------------
-// 2.7 raw bits
 
 #[test]
 fn spec_2_7_render_states_hold_raw_bits() {
@@ -638,20 +175,4 @@ fn spec_2_7_render_states_hold_raw_bits() {
         d.sampler_state(2, SamplerState::MIPMAPLODBIAS),
         Some(0x7FC0_0042)
     );
-}
-
-#[test]
-fn spec_2_7_sizes_from_raw_bits_follow_rules_3_and_5() {
-    // A subnormal size is a real, tiny size: nothing drawn at a half-integer centre with MIN 0.
-    let px = rhw_pixels(32, 32, 16.5, 16.5, |d| {
-        d.set_render_state(Rs::POINTSIZE, 0x0000_0001u32);
-        d.set_render_state(Rs::POINTSIZE_MIN, 0.0f32);
-    });
-    assert!(px.is_empty());
-    // A NaN MIN is no lower bound; the size stays 5.
-    let px = rhw_pixels(32, 32, 16.0, 16.0, |d| {
-        d.set_render_state(Rs::POINTSIZE, 5.0f32);
-        d.set_render_state(Rs::POINTSIZE_MIN, 0x7FC0_0000u32);
-    });
-    assert_eq!(px, rect(14, 14, 18, 18));
 }
