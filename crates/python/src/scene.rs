@@ -1,8 +1,11 @@
-//! Scene files from Python: `render_scene` draws what `pointillist render` draws.
+//! Scene files from Python: `render_scene` draws what `pointillist render` draws, `animate`
+//! writes what `pointillist animate` writes (through the same `pointillist-animation`).
 
 use std::path::PathBuf;
 
+use pointillist_animation::{Observer, Request};
 use pointillist_core::device::Device;
+use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
 use crate::errors::SceneError;
@@ -50,4 +53,72 @@ pub fn render_scene<'py>(
         })
         .map_err(SceneError::new_err)?;
     crate::image(py, target.to_rgba8(), target.width, target.height)
+}
+
+/// Python's side of an animation: warnings kept for `warnings.warn`, and Ctrl-C (or any
+/// signal handler's exception) checked between frames, which stops the animation with
+/// nothing written.
+#[derive(Default)]
+struct Session {
+    warnings: Vec<String>,
+    interrupt: Option<PyErr>,
+}
+
+impl Observer for Session {
+    fn warning(&mut self, text: &str) {
+        self.warnings.push(text.to_owned());
+    }
+
+    fn frame_done(&mut self, _k: u32) -> Result<(), String> {
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                let message = e.to_string();
+                self.interrupt = Some(e);
+                Err(message)
+            }
+        }
+    }
+}
+
+/// Renders every frame of a scene's ``[animation]`` into ``out`` as ``pointillist animate
+/// SCENE -o OUT [--frames N]`` does, with the same bytes. The GIL is released while frames
+/// render. Errors raise ``pointillist.SceneError`` with the CLI's one-line message, and leave
+/// no file (nor part of one) behind; warnings go to ``warnings.warn``.
+#[pyfunction]
+#[pyo3(signature = (path, out, *, frames=None, backend="cpu"))]
+pub fn animate(
+    py: Python<'_>,
+    path: PathBuf,
+    out: PathBuf,
+    frames: Option<u32>,
+    backend: &str,
+) -> PyResult<()> {
+    if frames == Some(0) {
+        return Err(pyo3::exceptions::PyValueError::new_err(
+            "frames must be at least 1",
+        ));
+    }
+    let backend = crate::backend::backend(backend)?;
+    let request = Request {
+        scene: path,
+        output: out,
+        format: None,
+        frames,
+    };
+    let mut session = Session::default();
+    let result =
+        py.detach(|| pointillist_animation::animate(&request, || Ok(backend), &mut session));
+    for text in &session.warnings {
+        PyErr::warn(
+            py,
+            &py.get_type::<PyUserWarning>(),
+            &std::ffi::CString::new(text.replace('\0', " "))?,
+            1,
+        )?;
+    }
+    if let Some(interrupt) = session.interrupt {
+        return Err(interrupt);
+    }
+    result.map(|_| ()).map_err(SceneError::new_err)
 }

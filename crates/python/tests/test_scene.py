@@ -1,6 +1,9 @@
 """`pointillist.render_scene` draws what `pointillist render` draws, and fails with its
 message."""
 
+import _thread
+import threading
+
 import numpy as np
 import pytest
 
@@ -43,3 +46,56 @@ def test_scene_errors_carry_the_cli_message(cli, tmp_path):
     with pytest.raises(pointillist.SceneError, match="frame 99 is outside"):
         pointillist.render_scene(SCENES / "snow.toml", 99)
     assert issubclass(pointillist.SceneError, pointillist.Error)
+
+
+def test_animate_writes_what_the_cli_writes(cli, tmp_path):
+    cli_out, py_out = tmp_path / "cli.png", tmp_path / "py.png"
+    rc, _, err = run_cli(cli, "animate", SCENES / "snow.toml", "-o", cli_out, "--frames", 3)
+    assert rc == 0, err
+    pointillist.animate(SCENES / "snow.toml", py_out, frames=3)
+    assert py_out.read_bytes() == cli_out.read_bytes()
+    pattern = tmp_path / "seq" / "f_%02d.png"
+    pattern.parent.mkdir()
+    pointillist.animate(SCENES / "snow.toml", pattern, frames=3)
+    assert sorted(p.name for p in pattern.parent.iterdir()) == ["f_00.png", "f_01.png", "f_02.png"]
+    for k in range(3):
+        assert np.array_equal(read_png(pattern.parent / f"f_{k:02d}.png"),
+                              pointillist.render_scene(SCENES / "snow.toml", k))
+
+
+@pytest.mark.parametrize("case", ["no format", "frame is a folder", "bad scene"])
+def test_animate_errors_carry_the_cli_message_and_write_nothing(cli, tmp_path, case):
+    scene = SCENES / "snow.toml"
+    out = tmp_path / "out" / "anim.png"
+    out.parent.mkdir()
+    if case == "no format":
+        out = out.with_suffix(".txt")
+    elif case == "frame is a folder":
+        out = out.parent / "f_%d.png"
+        (out.parent / "f_1.png").mkdir()
+    else:
+        scene = tmp_path / "bad.toml"
+        scene.write_text('format = 1\n[target]\nwidth = 64\nheight = "tall"\n')
+    before = sorted(out.parent.iterdir())
+    rc, _, err = run_cli(cli, "animate", scene, "-o", out, "--frames", 3)
+    assert rc != 0
+    line = err.strip().splitlines()[-1]
+    assert line.startswith("error: ")
+    with pytest.raises(pointillist.SceneError) as info:
+        pointillist.animate(scene, out, frames=3)
+    assert str(info.value) == line[len("error: "):]
+    assert sorted(out.parent.iterdir()) == before
+    with pytest.raises(ValueError, match="frames must be at least 1"):
+        pointillist.animate(SCENES / "snow.toml", tmp_path / "out" / "a.png", frames=0)
+
+
+def test_animate_stops_on_ctrl_c_and_writes_nothing(tmp_path):
+    out = tmp_path / "long.png"
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            pointillist.animate(SCENES / "snow.toml", out, frames=100_000)
+    finally:
+        timer.cancel()
+    assert list(tmp_path.iterdir()) == []

@@ -137,7 +137,8 @@ def animate(path, out, *, frames=None, backend="cpu"):
     """Render every frame of a scene's ``[animation]`` to ``out``, as ``pointillist animate``
     does: an animated GIF (``.gif``), an APNG of the exact RGBA bytes (``.png``/``.apng``), a
     numbered PNG sequence (a name with ``%d``, e.g. ``frames/f_%04d.png``) or H.264 through
-    ffmpeg (``.mp4``). ``frames`` renders only the first ``frames`` frames. A single output
-    file is written whole or not at all. Errors raise :class:`SceneError` with the command
-    line's message."""
+    ffmpeg (``.mp4``), byte for byte what the command line writes. ``frames`` renders only the
+    first ``frames`` frames. The output (every file of a sequence) is written whole or not at
+    all: errors raise :class:`SceneError` with the command line's message, and Ctrl-C
+    (``KeyboardInterrupt``, checked between frames) leaves nothing behind."""
     return _native.animate(str(path), str(out), frames=frames, backend=backend)

@@ -62,7 +62,8 @@ def animate(
     frames: Optional[int] = None,
     backend: Backend = "cpu",
 ) -> None:
-    """Every frame of a scene's animation to a GIF, APNG, PNG sequence or MP4."""
+    """Every frame of a scene's animation to a GIF, APNG, PNG sequence or MP4, as
+    ``pointillist animate`` writes it; whole or not at all (SceneError, KeyboardInterrupt)."""
 
 def lanes() -> str:
     """The vector level of the CPU backend's wide spans."""

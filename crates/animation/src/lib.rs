@@ -1,0 +1,314 @@
+//! A scene's `[animation]` (docs/spec/PARTICLES.md) rendered frame by frame into an animated
+//! GIF, an APNG, a numbered PNG sequence or an MP4 (through ffmpeg): what `pointillist animate`
+//! and Python's `pointillist.animate` both call.
+//!
+//! Contract: the format follows OUT's name (`.gif`; `.png` or `.apng`; a name with a
+//! `%d`-style counter such as `frames/snow_%04d.png`, at most 10 digits wide; `.mp4`) unless
+//! the request names one, and a name that says another format is refused. Every file goes
+//! through [`pointillist_image::output`]: checked before the first frame (never an input, never
+//! anything but a regular file), written under a temporary name beside it and put in place
+//! only when every frame is in; a PNG sequence puts all its frames in place together. So an
+//! error leaves no partial file, no temporary file and existing outputs untouched. Frame `k`
+//! is the scene at simulated time `warmup + k / fps` with the camera at time `k / fps`.
+//!
+//! The caller owns what surrounds the work: the backend, a progress display and a way to stop
+//! between frames ([`Observer`]), and what becomes of a signal (the CLI's handler kills the
+//! ffmpeg child it was handed by [`Observer::guard_child`]).
+
+mod sink;
+
+use std::path::{Path, PathBuf};
+
+use pointillist_core::Device;
+use pointillist_core::device::Backend;
+use pointillist_image::output::Destination;
+use pointillist_particles::DrawBuffers;
+
+use sink::Sink;
+
+/// An animation's file format.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Animated GIF, looping; colours quantised per frame, shown opaque.
+    Gif,
+    /// Animated PNG of the exact RGBA bytes.
+    Apng,
+    /// Numbered PNG files: OUT holds a `%d` counter, like `frames/%04d.png`.
+    PngSeq,
+    /// H.264 MP4 through ffmpeg.
+    Mp4,
+}
+
+/// The widest frame counter: a u32 frame number has at most 10 digits.
+const MAX_COUNTER_WIDTH: usize = 10;
+
+/// The format OUT's name implies.
+pub fn infer_format(out: &Path) -> Option<Format> {
+    let name = out.file_name()?.to_string_lossy().to_ascii_lowercase();
+    if counter(&name).is_some() {
+        return Some(Format::PngSeq);
+    }
+    match Path::new(&name).extension()?.to_str()? {
+        "gif" => Some(Format::Gif),
+        "png" | "apng" => Some(Format::Apng),
+        "mp4" => Some(Format::Mp4),
+        _ => None,
+    }
+}
+
+/// The `%d` / `%0Nd` counter in a file name: its byte range and zero-padded width (`None`
+/// when the width is not a number).
+fn counter(name: &str) -> Option<(std::ops::Range<usize>, Option<usize>)> {
+    let start = name.find('%')?;
+    let rest = &name[start + 1..];
+    let digits = rest.chars().take_while(char::is_ascii_digit).count();
+    if rest[digits..].starts_with('d') {
+        let width = if digits == 0 {
+            Some(0)
+        } else {
+            rest[..digits].parse().ok()
+        };
+        Some((start..start + 1 + digits + 1, width))
+    } else {
+        None
+    }
+}
+
+/// The file name of a sequence pattern, with its counter checked (a width of at most
+/// [`MAX_COUNTER_WIDTH`]).
+fn sequence_name(pattern: &Path) -> Result<String, String> {
+    let name = pattern
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    match counter(&name) {
+        None => Err(format!(
+            "{}: a PNG sequence needs a frame counter in the file name, like frames/snow_%04d.png",
+            pattern.display()
+        )),
+        Some((range, width)) if width.is_none_or(|w| w > MAX_COUNTER_WIDTH) => Err(format!(
+            "{}: the frame counter `{}` is wider than a frame number: at most \
+             {MAX_COUNTER_WIDTH} digits (%0{MAX_COUNTER_WIDTH}d)",
+            pattern.display(),
+            &name[range]
+        )),
+        Some(_) => Ok(name),
+    }
+}
+
+/// The path of frame `k` of a sequence pattern (the pattern itself when its counter is not
+/// one [`animate`] accepts).
+pub fn sequence_path(pattern: &Path, k: u32) -> PathBuf {
+    let name = pattern
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let Some((range, Some(width))) = counter(&name) else {
+        return pattern.to_path_buf();
+    };
+    let file = format!(
+        "{}{:0width$}{}",
+        &name[..range.start],
+        k,
+        &name[range.end..]
+    );
+    pattern.with_file_name(file)
+}
+
+/// What to animate and where to.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The file to write, or a sequence's pattern.
+    pub output: PathBuf,
+    /// The format, when OUT's name does not tell it (`--format`).
+    pub format: Option<Format>,
+    /// Render this many frames instead of `[animation] frames` (`--frames`).
+    pub frames: Option<u32>,
+}
+
+/// What was written.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Summary {
+    /// Frames written.
+    pub frames: u32,
+    /// Target width in pixels.
+    pub width: u32,
+    /// Target height in pixels.
+    pub height: u32,
+    /// Frames a second.
+    pub fps: f32,
+    /// Live particles after the last frame.
+    pub particles: usize,
+}
+
+/// The caller's side of a running animation.
+pub trait Observer {
+    /// A warning worth showing (one line, not yet made printable).
+    fn warning(&mut self, text: &str);
+    /// Called once before the first frame is drawn, with the number of frames.
+    fn start(&mut self, _frames: u32) {}
+    /// Called after frame `k` went to the output; an error stops the animation with that
+    /// message and nothing is written.
+    fn frame_done(&mut self, _k: u32) -> Result<(), String> {
+        Ok(())
+    }
+    /// ffmpeg started as process `pid`; the returned value lives as long as the process is
+    /// running (the CLI registers it with its signal handler).
+    fn guard_child(&mut self, _pid: u32) -> Box<dyn std::any::Any> {
+        Box::new(())
+    }
+}
+
+/// Checks OUT before any frame is drawn: its format (from the request or its name; a name
+/// that says another format is refused) and the file or, for a sequence, every frame's file.
+fn check_output(
+    request: &Request,
+    frames: u32,
+    inputs: &[PathBuf],
+    observer: &mut dyn Observer,
+) -> Result<(Format, Vec<Destination>), String> {
+    let out = &request.output;
+    if request.format == Some(Format::PngSeq) {
+        sequence_name(out)?;
+    }
+    let named = infer_format(out);
+    // A single file is checked before its name: "it is the input" says more than "not a GIF".
+    let single = if named == Some(Format::PngSeq) {
+        None
+    } else {
+        Some(Destination::check(out, inputs).map_err(|e| e.to_string())?)
+    };
+    let format = match (request.format, named) {
+        (Some(f), Some(n)) if f != n => {
+            return Err(format!(
+                "{}: the name says {n:?} but --format says {f:?}; name the file for its format",
+                out.display()
+            ));
+        }
+        (Some(f), _) => f,
+        (None, Some(n)) => n,
+        (None, None) => {
+            return Err(format!(
+                "{}: cannot tell the format from the name; use .gif, .png or .apng (APNG), .mp4, a frame counter like frames/%04d.png, or --format",
+                out.display()
+            ));
+        }
+    };
+    let dests = if let Some(dest) = single.filter(|_| format != Format::PngSeq) {
+        vec![dest]
+    } else {
+        sequence_name(out)?;
+        let dests = (0..frames)
+            .map(|k| Destination::check(&sequence_path(out, k), inputs))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| e.to_string())?;
+        let after = sequence_path(out, frames);
+        if after.exists() {
+            observer.warning(&format!(
+                "{} and the frames after it, from an earlier run, are left as they were",
+                after.display()
+            ));
+        }
+        dests
+    };
+    Ok((format, dests))
+}
+
+/// Renders the animation of `request` and writes it, whole or not at all. `backend` is
+/// called once the scene and the output have been checked. Errors are one line, as the CLI
+/// prints them.
+pub fn animate<B: Backend>(
+    request: &Request,
+    backend: impl FnOnce() -> Result<B, String>,
+    observer: &mut dyn Observer,
+) -> Result<Summary, String> {
+    let scene = pointillist_scene::load(&request.scene).map_err(|e| e.to_string())?;
+    let scene_name = request.scene.display().to_string();
+    let anim = &scene.animation;
+    let frames = request.frames.unwrap_or(anim.frames);
+    if frames == 0 {
+        return Err("--frames must be at least 1".into());
+    }
+    anim.check_steps(frames)
+        .map_err(|e| format!("{scene_name}: --frames {frames}: {e}"))?;
+    let (format, dests) = check_output(request, frames, &scene.inputs, observer)?;
+    let mut system = scene.particle_system().map_err(|e| e.to_string())?;
+    let mut device = Device::new(backend()?, scene.device_desc())
+        .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
+    let (width, height) = (scene.target.width, scene.target.height);
+    let out = &request.output;
+    let mut file = match format {
+        Format::PngSeq => None,
+        _ => Some(dests[0].create().map_err(|e| e.to_string())?),
+    };
+    let dests = if file.is_some() { Vec::new() } else { dests };
+    let mut sink = Sink::new(
+        format,
+        file.as_mut(),
+        dests,
+        out,
+        (width, height),
+        anim.fps,
+        frames,
+        observer,
+    )?;
+    let mut buffers = DrawBuffers::new();
+    let mut rgba = Vec::new();
+    observer.start(frames);
+    for k in 0..frames {
+        scene
+            .render_frame(&mut device, &mut system, &mut buffers, k)
+            .map_err(|e| e.to_string())?;
+        let target = device
+            .read_target()
+            .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
+        rgba.clear();
+        rgba.extend(
+            target
+                .color
+                .iter()
+                .flat_map(|&c| pointillist_core::color::argb_to_rgba8(c)),
+        );
+        sink.frame(width, height, &mut rgba, out)?;
+        observer.frame_done(k)?;
+    }
+    sink.finish(out)?;
+    if let Some(file) = file {
+        file.commit().map_err(|e| e.to_string())?;
+    }
+    for notice in device.take_notices() {
+        observer.warning(&format!("{scene_name}: {notice}"));
+    }
+    Ok(Summary {
+        frames,
+        width,
+        height,
+        fps: anim.fps,
+        particles: system.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_counters_are_at_most_ten_digits() {
+        assert!(sequence_name(Path::new("f_%10d.png")).is_ok());
+        assert!(sequence_name(Path::new("f_%d.png")).is_ok());
+        for bad in [
+            "f_%11d.png",
+            "f_%65536d.png",
+            "f_%99999999999999999999999d.png",
+        ] {
+            let e = sequence_name(Path::new(bad)).unwrap_err();
+            assert!(e.contains("at most 10 digits"), "{e}");
+        }
+        assert_eq!(
+            sequence_path(Path::new("a/f_%04d.png"), 7),
+            Path::new("a/f_0007.png")
+        );
+    }
+}
