@@ -181,6 +181,40 @@ fn dropped() -> Point {
     return p;
 }
 
+// `sqrt(1 / t)` as IEEE f32 computes it (core::point::scaled_size), also where `1 / t` is
+// subnormal (|t| > 2^126) and a GPU would flush it to zero: the subnormal's significand
+// `q = round_half_even(2^149 / |t|)` comes from a long division on t's bits, and
+// `sqrt(q * 2^-149) = sqrt(q * 2^-21) * 2^-64` keeps every intermediate normal (both scalings
+// are exact powers of two, so the rounding is that of the subnormal's square root).
+fn sqrt_reciprocal(t: f32) -> f32 {
+    let bits = bitcast<u32>(t);
+    let biased = (bits >> 23u) & 0xffu;
+    let fraction = bits & 0x7fffffu;
+    // 253 and 254 are the exponents of [2^126, 2^128); 2^126 itself has a normal reciprocal.
+    if biased < 253u || biased == 255u || (biased == 253u && fraction == 0u) {
+        return sqrt(1.0 / t);
+    }
+    if (bits >> 31u) != 0u {
+        return bitcast<f32>(0x7fc00000u); // the square root of a negative reciprocal
+    }
+    // 2^149 / t = 2^(299 - biased) / m, with m the 24-bit significand.
+    let m = fraction | 0x800000u;
+    var q = 0u;
+    var rem = 1u;
+    for (var i = 0u; i < 299u - biased; i++) {
+        rem = rem << 1u;
+        q = q << 1u;
+        if rem >= m {
+            rem -= m;
+            q |= 1u;
+        }
+    }
+    if 2u * rem > m || (2u * rem == m && (q & 1u) == 1u) {
+        q += 1u;
+    }
+    return sqrt(f32(q) * 0x1p-21f) * 0x1p-64f;
+}
+
 // PointSetup::size: SPEC 2.2 to 2.4.
 fn final_size(si: f32, de: f32) -> f32 {
     if SINGLE_PIXEL {
@@ -189,7 +223,7 @@ fn final_size(si: f32, de: f32) -> f32 {
     var ss = si;
     if SCALE {
         // core::point::scaled_size (SPEC 2.2)
-        ss = U.scale.w * si * sqrt(1.0 / (U.scale.x + U.scale.y * de + U.scale.z * de * de));
+        ss = U.scale.w * si * sqrt_reciprocal(U.scale.x + U.scale.y * de + U.scale.z * de * de);
     }
     // core::point::clamp_size (SPEC 2.3): NaN and negative sizes count as 0.
     if is_nan(ss) || ss < 0.0 {

@@ -290,6 +290,59 @@ fn spec_2_2_point_scale() {
     }
 }
 
+/// SPEC 2.2 with an attenuation so large that `1 / (A + B*De + C*De^2)` is a subnormal number
+/// (the sum between 2^126 and 2^128): the arithmetic is IEEE's on both backends, so the
+/// subnormal is kept (a GPU flushing it to zero drew nothing), and a huge POINTSIZE brings the
+/// sizes back to a few pixels.
+#[test]
+fn spec_2_2_point_scale_with_a_subnormal_attenuation() {
+    let mut r = Rng(2_2_126);
+    let pts: Vec<XyzDiffuse> = (0..200)
+        .map(|_| {
+            // Eye distances in [2.9, 11.06]: B * De stays in (2^126, 2^128).
+            let z = r.range(2.9, 10.0);
+            XyzDiffuse {
+                position: [r.range(-z, z) / 3.0, r.range(-z, z) / 3.0, z],
+                diffuse: r.color() | 0xFF00_0000,
+            }
+        })
+        .collect();
+    check(
+        "spec_2_2_subnormal_attenuation",
+        128,
+        96,
+        Tolerance::Exact,
+        |d| {
+            perspective(d, 128.0 / 96.0);
+            d.set_render_state(RenderState::POINTSCALEENABLE, true);
+            d.set_render_state(RenderState::POINTSCALE_A, 0.0f32);
+            d.set_render_state(RenderState::POINTSCALE_B, 3.0e37f32);
+            d.set_render_state(RenderState::POINTSCALE_C, 0.0f32);
+            d.set_render_state(RenderState::POINTSIZE, 4.2e17f32);
+            d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+            d.draw_vertices(&pts)
+        },
+    );
+    // And where `Vh * Si` overflows to infinity: infinity times the subnormal's root is
+    // infinite, so the size clamps to POINTSIZE_MAX (a flushed root gave NaN, no point).
+    check(
+        "spec_2_2_subnormal_attenuation_infinite_size",
+        128,
+        96,
+        Tolerance::Exact,
+        |d| {
+            perspective(d, 128.0 / 96.0);
+            d.set_render_state(RenderState::POINTSCALEENABLE, true);
+            d.set_render_state(RenderState::POINTSCALE_A, 0.0f32);
+            d.set_render_state(RenderState::POINTSCALE_B, 3.0e37f32);
+            d.set_render_state(RenderState::POINTSCALE_C, 0.0f32);
+            d.set_render_state(RenderState::POINTSIZE, f32::MAX);
+            d.set_render_state(RenderState::POINTSIZE_MAX, 3.687_391f32);
+            d.draw_vertices(&pts[..40])
+        },
+    );
+}
+
 #[test]
 fn spec_3_1_depth_and_w_clipping() {
     let pts = [
