@@ -296,7 +296,7 @@ fn spec_2_2_point_scale() {
 /// sizes back to a few pixels.
 #[test]
 fn spec_2_2_point_scale_with_a_subnormal_attenuation() {
-    let mut r = Rng(2_2_126);
+    let mut r = Rng(22_126);
     let pts: Vec<XyzDiffuse> = (0..200)
         .map(|_| {
             // Eye distances in [2.9, 11.06]: B * De stays in (2^126, 2^128).
