@@ -39,8 +39,13 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let target = device
         .read_target()
         .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
-    dest.write_png(target.width, target.height, &target.to_rgba8())
-        .map_err(|e| e.to_string())?;
+    dest.write_png(
+        target.width,
+        target.height,
+        &target.to_rgba8(),
+        args.compression.into(),
+    )
+    .map_err(|e| e.to_string())?;
     for notice in device.take_notices() {
         crate::report::warning(&format!("{scene_name}: {notice}"));
     }
