@@ -104,6 +104,7 @@ pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
         clip_plane_scaled_points: device.clip_plane_scaled_points,
         vertex_processing: scene.vertex_processing,
         w_fog: device.w_fog,
+        max_active_lights: device.max_active_lights,
     }
 }
 
@@ -235,6 +236,12 @@ fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
             "clip_plane_scaled_points {}",
             scene.clip_plane_scaled_points
         ));
+    }
+    if scene.w_fog != device.w_fog {
+        diffs.push(format!("w_fog {}", scene.w_fog));
+    }
+    if scene.max_active_lights != device.max_active_lights {
+        diffs.push(format!("max_active_lights {}", scene.max_active_lights));
     }
     (!diffs.is_empty()).then(|| {
         format!(
