@@ -27,6 +27,10 @@ pub const MAX_TARGET_SIZE: u32 = 16384;
 /// SCENE.md): a bigger DrawPrimitiveUP is refused with [`DeviceError::TooManyVertices`] before
 /// the backend sees it, like D3D9 refuses more than D3DCAPS9.MaxPrimitiveCount points.
 pub const MAX_DRAW_VERTICES: usize = 1 << 24;
+/// The most memory a backend holds for one draw besides its target and the draw's vertices
+/// (the CPU rasterizer's bins: a draw whose points would bin more is drawn in passes), so that a
+/// render's memory can be budgeted before it runs.
+pub const DRAW_SCRATCH_BYTES: u64 = 256 << 20;
 
 /// D3DTRANSFORMSTATETYPE for the three fixed-function transforms.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

@@ -25,7 +25,7 @@
 //! [`Lanes::N`] pixels at a time on the widest vectors the CPU has ([`mod@crate::lanes`]).
 
 use pointillist_core::color::{Rgba, pack, unpack};
-use pointillist_core::device::{MAX_STAGES, RenderTarget};
+use pointillist_core::device::{DRAW_SCRATCH_BYTES, MAX_STAGES, RenderTarget};
 use pointillist_core::draw::DrawSetup;
 use pointillist_core::pixel::{
     BlendClass, BlendSetup, PixelSetup, ShadeInputs, alpha_test_passes, blend, compare,
@@ -334,6 +334,8 @@ struct DrawContext<'a> {
     /// Whether the draw bins its points and fills bands in parallel (else point after point):
     /// [`PARALLEL_MIN_POINTS`] or more, or fewer covering [`PARALLEL_MIN_PIXELS`]. Tests set it.
     binned: bool,
+    /// The most bytes a binned draw's bins hold: [`DRAW_SCRATCH_BYTES`]. Tests set it.
+    scratch: usize,
     points: PointSetup,
     /// [`PixelSetup::is_flat`], once per draw.
     flat: bool,
@@ -555,6 +557,7 @@ fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
     let spans = Some(LanesLevel::detect()).filter(|l| !matches!(l, LanesLevel::Portable));
     let mut ctx = DrawContext {
         binned: false,
+        scratch: DRAW_SCRATCH_BYTES as usize,
         squares: SquareStage::new(&points, spans),
         flat: pixel.is_flat(),
         points,
@@ -609,7 +612,17 @@ fn draw_points<B: Blender, P: Binned>(
     let count = ctx.point_count();
     let threads = rayon::current_num_threads();
     if ctx.binned {
-        draw_binned::<B, P>(ctx, b, target, P::chunks(bins), clear, count, threads);
+        let scratch = ctx.scratch;
+        draw_binned::<B, P>(
+            ctx,
+            b,
+            target,
+            P::chunks(bins),
+            clear,
+            count,
+            threads,
+            scratch,
+        );
         return trim_bins(P::chunks(bins));
     }
     if let Some(c) = clear {
@@ -915,6 +928,22 @@ pub(crate) struct Bins {
     sprite: Vec<Chunk<Sprite>>,
 }
 
+impl Bins {
+    /// The bytes the bins hold.
+    #[cfg(test)]
+    fn bytes(&self) -> usize {
+        fn of<P>(chunks: &[Chunk<P>]) -> usize {
+            chunks
+                .iter()
+                .flat_map(|c| &c.bands)
+                .map(Vec::capacity)
+                .sum::<usize>()
+                * size_of::<P>()
+        }
+        of(&self.index) + of(&self.solid) + of(&self.sprite)
+    }
+}
+
 impl std::fmt::Debug for Bins {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Bins").finish_non_exhaustive()
@@ -956,50 +985,91 @@ fn bin<P: Binned>(
         });
 }
 
-/// The parallel plan of the module contract with bins of `P`.
+/// The parallel plan of the module contract with bins of `P`, in passes: each pass bins the
+/// next vertices, as many as keep the bins within `scratch` bytes (see [`chunk_points`]), and
+/// fills every band with them before the next pass bins. Each band still applies its points
+/// in vertex order, so the pixels are those of one pass.
+#[allow(clippy::too_many_arguments)]
 fn draw_binned<B: Blender, P: Binned>(
     ctx: &DrawContext,
     b: &B,
     target: &mut RenderTarget,
     chunks: &mut Vec<Chunk<P>>,
-    clear: Option<Clear>,
+    mut clear: Option<Clear>,
     count: u32,
     threads: usize,
+    scratch: usize,
 ) {
     let width = target.width as usize;
     let bands = (target.height as usize).div_ceil(BAND_ROWS);
-    let chunk = (count as usize).div_ceil(threads * 4).max(1024) as u32;
-    let firsts: Vec<u32> = (0..count).step_by(chunk as usize).collect();
-    chunks.resize_with(firsts.len(), Chunk::default);
-    chunks
-        .par_iter_mut()
-        .zip(&firsts)
-        .for_each(|(c, &first)| bin(c, ctx, first..(first + chunk).min(count), bands));
-    let chunks = &*chunks;
-    target
-        .color
-        .par_chunks_mut(BAND_ROWS * width)
-        .zip(target.depth.par_chunks_mut(BAND_ROWS * width))
-        .enumerate()
-        .for_each(|(n, (color, depth))| {
-            if let Some((c, d)) = clear {
-                color.fill(c);
-                depth.fill(d);
-            }
-            let y0 = (n * BAND_ROWS) as i32;
-            let y1 = y0 + (color.len() / width) as i32;
-            let mut band = Band {
-                color,
-                depth,
-                width,
-                y0,
-                y1,
-            };
-            let mut scratch = Scratch::default();
-            for c in chunks {
-                P::fill_all(&c.bands[n], ctx, b, &mut band, &mut scratch);
-            }
-        });
+    let per_pass = threads * 4;
+    let chunk = chunk_points::<P>(ctx, bands, count, per_pass, scratch);
+    let pass = chunk as usize * per_pass;
+    for start in (0..count).step_by(pass) {
+        let end = (start as usize + pass).min(count as usize) as u32;
+        let firsts: Vec<u32> = (start..end).step_by(chunk as usize).collect();
+        chunks.resize_with(firsts.len(), Chunk::default);
+        chunks
+            .par_iter_mut()
+            .zip(&firsts)
+            .for_each(|(c, &first)| bin(c, ctx, first..(first + chunk).min(end), bands));
+        let chunks = &*chunks;
+        let clear = clear.take();
+        target
+            .color
+            .par_chunks_mut(BAND_ROWS * width)
+            .zip(target.depth.par_chunks_mut(BAND_ROWS * width))
+            .enumerate()
+            .for_each(|(n, (color, depth))| {
+                if let Some((c, d)) = clear {
+                    color.fill(c);
+                    depth.fill(d);
+                }
+                let y0 = (n * BAND_ROWS) as i32;
+                let y1 = y0 + (color.len() / width) as i32;
+                let mut band = Band {
+                    color,
+                    depth,
+                    width,
+                    y0,
+                    y1,
+                };
+                let mut scratch = Scratch::default();
+                for c in chunks {
+                    P::fill_all(&c.bands[n], ctx, b, &mut band, &mut scratch);
+                }
+            });
+    }
+}
+
+/// The vertices each of a pass's `chunks` bins: an even share of the draw's `count`, at least
+/// 1024, but never more than keep a chunk's bins (what [`bin`] reserves, and a band's vector
+/// grown to twice its points) within its share of `scratch`, for points that each touch the
+/// most bands this draw's size clamp allows (SPEC 2.3; rectangles lie inside the viewport).
+fn chunk_points<P>(
+    ctx: &DrawContext,
+    bands: usize,
+    count: u32,
+    chunks: usize,
+    scratch: usize,
+) -> u32 {
+    let vp = ctx.points.viewport_rect();
+    let mut rows = (vp.y1 - vp.y0).max(1) as usize;
+    let (_, hi) = ctx.points.size_bounds();
+    if ctx.points.is_single_pixel() {
+        rows = 1;
+    } else if hi < rows as f32 {
+        rows = hi.max(0.0) as usize + 2; // a square of size s covers at most s + 1 rows
+    }
+    let most_bands = (rows.div_ceil(BAND_ROWS) + 1).min(bands);
+    let per_point = size_of::<P>() * (2 * most_bands + 2);
+    let share = (scratch / chunks).saturating_sub(16 * bands * size_of::<P>());
+    let fit = (share / per_point).max(1);
+    (count as usize)
+        .div_ceil(chunks)
+        .max(1024)
+        .min(fit)
+        .min(u32::MAX as usize) as u32
 }
 
 /// Frees the bins of `P` after a draw when they hold more than [`RETAINED_BIN_BYTES`] and
@@ -1729,18 +1799,25 @@ mod tests {
                 vertices.extend(row.iter().flat_map(|w| w.to_le_bytes()));
             }
             let state = device.state();
-            let drawn = |threads: usize, binned: bool| {
+            let drawn = |threads: usize, binned: bool, scratch: usize| {
                 let mut target = RenderTarget::new(w, h, 0xFF10_2030, 1.0);
                 let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
                 ctx.binned = binned;
+                ctx.scratch = scratch;
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
                     .build()
                     .unwrap();
-                pool.install(|| draw_context(&ctx, &mut target, &mut Bins::default(), None));
+                let mut bins = Bins::default();
+                pool.install(|| draw_context(&ctx, &mut target, &mut bins, None));
+                assert!(
+                    bins.bytes() <= scratch,
+                    "scene {scene}, {threads} threads: bins of {} bytes, above {scratch}",
+                    bins.bytes()
+                );
                 target
             };
-            let sequential = drawn(1, false);
+            let sequential = drawn(1, false, usize::MAX);
             assert!(
                 sequential
                     .color
@@ -1749,15 +1826,16 @@ mod tests {
                     .count()
                     > 1000
             );
-            for threads in [1, 2, 3] {
-                let binned = drawn(threads, true);
+            // One pass, then many: bins of at most 256 KiB hold a few hundred of these points.
+            for (threads, scratch) in [(1, 1 << 28), (2, 1 << 28), (3, 1 << 28), (2, 1 << 18)] {
+                let binned = drawn(threads, true, scratch);
                 assert!(
                     binned.color == sequential.color,
-                    "scene {scene}, {threads} threads: colour"
+                    "scene {scene}, {threads} threads, {scratch} bytes of bins: colour"
                 );
                 assert!(
                     binned.depth == sequential.depth,
-                    "scene {scene}, {threads} threads: depth"
+                    "scene {scene}, {threads} threads, {scratch} bytes of bins: depth"
                 );
             }
         }
