@@ -157,6 +157,11 @@ fn table(out: &mut String, caps: &Caps) {
                 "table fog always from z"
             },
         ),
+        (
+            "MaxActiveLights",
+            caps.max_active_lights.to_string(),
+            "enabled lights that light a vertex",
+        ),
     ];
     for (name, value, note) in rows {
         let _ = writeln!(out, "  {name:<34}  {value:<8}  {note}");

@@ -104,6 +104,7 @@ pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
         clip_plane_scaled_points: device.clip_plane_scaled_points,
         vertex_processing: scene.vertex_processing,
         w_fog: device.w_fog,
+        max_active_lights: device.max_active_lights,
     }
 }
 

@@ -47,6 +47,9 @@ pub struct DeviceInfo {
     /// D3DPRASTERCAPS_WFOG (table fog from w, SPEC 9.5); captures made before the replayer
     /// reported it count as having it, as the reference caps do.
     pub w_fog: bool,
+    /// D3DCAPS9.MaxActiveLights (SPEC 8.2); captures made before the replayer reported it
+    /// count as 8, as the reference caps do.
+    pub max_active_lights: u32,
     /// Every line of `device.txt`, in order.
     pub lines: Vec<(String, String)>,
 }
@@ -79,12 +82,19 @@ impl DeviceInfo {
             .ok()
             .filter(|m| m.is_finite() && *m >= 0.0)
             .ok_or_else(|| format!("{}: max_point_size={max} is not a size", file.display()))?;
+        let max_active_lights = match get("max_active_lights") {
+            Err(_) => 8,
+            Ok(v) => v
+                .parse::<u32>()
+                .map_err(|_| format!("{}: max_active_lights={v} is not a count", file.display()))?,
+        };
         Ok(DeviceInfo {
             description: get("description")?.to_string(),
             max_point_size,
             fvfcaps_psize: flag("fvfcaps_psize")?,
             clip_plane_scaled_points: flag("clip_plane_scaled_points")?,
             w_fog: get("w_fog").is_err() || flag("w_fog")?,
+            max_active_lights,
             lines,
         })
     }

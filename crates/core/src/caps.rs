@@ -29,6 +29,9 @@ pub struct Caps {
     /// D3DPRASTERCAPS_WFOG: table fog from eye-relative w under a non-affine projection
     /// (SPEC 9.5).
     pub w_fog: bool,
+    /// D3DCAPS9.MaxActiveLights: how many enabled lights light a vertex; the pipeline carries
+    /// at most [`MAX_ACTIVE_LIGHTS`](crate::light::MAX_ACTIVE_LIGHTS) (SPEC 8.2).
+    pub max_active_lights: u32,
 }
 
 /// The largest sprite the runtime's software emulation draws (SPEC 6).
@@ -51,7 +54,7 @@ impl Caps {
     ];
 
     /// The `reference` profile: 8192-pixel sprites, per-vertex size, scaled-point clipping,
-    /// w-based table fog.
+    /// w-based table fog, 8 active lights.
     pub const fn reference() -> Caps {
         Caps {
             max_point_size: 8192.0,
@@ -59,6 +62,7 @@ impl Caps {
             clip_plane_scaled_points: true,
             vertex_processing: VertexProcessing::Hardware,
             w_fog: true,
+            max_active_lights: 8,
         }
     }
 
@@ -102,13 +106,21 @@ impl Caps {
     }
 
     /// The caps the pipeline applies: with software vertex processing, per-vertex size and
-    /// sizes up to [`SOFTWARE_MAX_POINT_SIZE`] whatever the device reports (SPEC 6).
+    /// sizes up to [`SOFTWARE_MAX_POINT_SIZE`] whatever the device reports (SPEC 6); active
+    /// lights at most [`MAX_ACTIVE_LIGHTS`](crate::light::MAX_ACTIVE_LIGHTS) (SPEC 8.2).
     pub fn effective(&self) -> Caps {
+        let lights = self
+            .max_active_lights
+            .min(crate::light::MAX_ACTIVE_LIGHTS as u32);
         match self.vertex_processing {
-            VertexProcessing::Hardware => *self,
+            VertexProcessing::Hardware => Caps {
+                max_active_lights: lights,
+                ..*self
+            },
             VertexProcessing::Software => Caps {
                 max_point_size: SOFTWARE_MAX_POINT_SIZE,
                 per_vertex_point_size: true,
+                max_active_lights: lights,
                 ..*self
             },
         }

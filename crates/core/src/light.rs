@@ -257,13 +257,13 @@ impl Lights {
     }
 
     /// SPEC 8.2: the lights that light vertices: the enabled ones with the lowest indices, at
-    /// most [`MAX_ACTIVE_LIGHTS`].
-    pub fn active(&self) -> impl Iterator<Item = (u32, &Light)> {
+    /// most `max_active` (the caps' MaxActiveLights) and at most [`MAX_ACTIVE_LIGHTS`].
+    pub fn active(&self, max_active: u32) -> impl Iterator<Item = (u32, &Light)> {
         self.slots
             .iter()
             .filter(|(_, s)| s.enabled)
             .map(|(&i, s)| (i, &s.light))
-            .take(MAX_ACTIVE_LIGHTS)
+            .take(MAX_ACTIVE_LIGHTS.min(max_active as usize))
     }
 }
 
@@ -408,7 +408,10 @@ impl LightSetup {
         }; MAX_ACTIVE_LIGHTS];
         let mut count = 0;
         let view = &state.view;
-        for (_, l) in state.lights.active() {
+        for (_, l) in state
+            .lights
+            .active(state.caps.effective().max_active_lights)
+        {
             let p = view.transform([l.position[0], l.position[1], l.position[2], 1.0]);
             let d = view.transform([l.direction[0], l.direction[1], l.direction[2], 0.0]);
             lights[count] = EyeLight {
@@ -751,14 +754,17 @@ mod tests {
     #[test]
     fn spec_8_2_defaults_and_active_lights() {
         let mut lights = Lights::default();
-        assert_eq!(lights.active().count(), 0);
+        assert_eq!(lights.active(8).count(), 0);
         lights.enable(7, true);
         assert_eq!(lights.get(7).unwrap().light, Light::DEFAULT);
         for i in (0..20).rev() {
             lights.enable(i * 3, true);
         }
-        let active: Vec<u32> = lights.active().map(|(i, _)| i).collect();
+        let active: Vec<u32> = lights.active(8).map(|(i, _)| i).collect();
         assert_eq!(active, [0, 3, 6, 7, 9, 12, 15, 18]);
+        let active: Vec<u32> = lights.active(3).map(|(i, _)| i).collect();
+        assert_eq!(active, [0, 3, 6], "the caps' MaxActiveLights");
+        assert_eq!(lights.active(64).count(), MAX_ACTIVE_LIGHTS);
         let spot = Light {
             light_type: LightType::Spot,
             range: 5.0,
@@ -773,6 +779,24 @@ mod tests {
         assert_eq!(lights.get(7).unwrap().light, spot);
         assert_eq!(Material::default().power, 0.0);
         assert_eq!(Material::default().diffuse, [0.0; 4]);
+    }
+
+    #[test]
+    fn spec_8_2_the_caps_max_active_lights_bound_the_lights_of_a_draw() {
+        let mut lights = Lights::default();
+        for i in 0..10 {
+            lights.enable(i, true);
+        }
+        let mut state = DeviceState::new(Api::D3d9, Caps::reference(), 64, 64);
+        state.lights = lights;
+        let count = |state: &DeviceState| LightSetup::new(state, XYZ_NORMAL).unwrap().count;
+        assert_eq!(count(&state), 8);
+        state.caps.max_active_lights = 2;
+        assert_eq!(count(&state), 2);
+        state.caps.max_active_lights = 0;
+        assert_eq!(count(&state), 0);
+        state.caps.max_active_lights = u32::MAX;
+        assert_eq!(count(&state), MAX_ACTIVE_LIGHTS);
     }
 
     #[test]

@@ -403,6 +403,7 @@ impl Parser<'_> {
                 "clip_plane_scaled_points",
                 "vertex_processing",
                 "w_fog",
+                "max_active_lights",
             ],
         )?;
         let mut caps = match f.get("profile") {
@@ -437,6 +438,11 @@ impl Parser<'_> {
         }
         if let Some(v) = f.get("w_fog") {
             caps.w_fog = boolean(src, v, &f.path("w_fog"))?;
+        }
+        if let Some(v) = f.get("max_active_lights") {
+            let most = pointillist_core::light::MAX_ACTIVE_LIGHTS as i64;
+            let path = f.path("max_active_lights");
+            caps.max_active_lights = integer_in(src, v, &path, 0, most, false)? as u32;
         }
         if let Some(v) = f.get("vertex_processing") {
             let path = f.path("vertex_processing");

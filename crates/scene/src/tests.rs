@@ -108,6 +108,10 @@ fn target_api_and_caps() {
             ..Caps::reference()
         }
     );
+    assert_eq!(
+        ok("[caps]\nmax_active_lights = 3\n").caps.max_active_lights,
+        3
+    );
 }
 
 #[test]
@@ -706,6 +710,10 @@ fn error_format_syntax_and_structure() {
     assert_eq!(
         err("[transform]\nworld = [[1, 0, 0, 0]]\n"),
         "tests/data/test.toml:6:9: transform.world: expected 4 rows of 4 numbers, found 1 row"
+    );
+    assert_eq!(
+        err("[caps]\nmax_active_lights = 9\n"),
+        "tests/data/test.toml:6:21: caps.max_active_lights: 9 is outside 0..=8"
     );
     assert_eq!(
         err("[caps]\nprofile = \"voodoo\"\n"),

@@ -4,8 +4,9 @@
 
 use crate::common::*;
 use pointillist_core::DeviceError;
+use pointillist_core::caps::Caps;
 use pointillist_core::fvf::Fvf;
-use pointillist_core::light::{Light, LightType};
+use pointillist_core::light::{Light, LightType, Material};
 use pointillist_core::states::RenderState;
 
 cases!("8-lighting":
@@ -98,4 +99,54 @@ fn spec_8_1_a_lit_draw_without_a_light_is_noted_once() {
     assert!(notes[0].contains("no light is enabled"), "{notes:?}");
     // Black: no light, zero material and AMBIENT; the vertex's alpha (SPEC 8.7).
     assert_eq!(target(&mut d).pixel(4, 4), 0xFF00_0000);
+}
+
+#[test]
+fn spec_8_2_the_caps_max_active_lights_bound_the_lights_that_light_a_vertex() {
+    // Lights 0, 1 and 2 add red, green and blue to a white material facing them.
+    let rgb = [
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+    ];
+    let normal = Fvf(Fvf::XYZ.0 | Fvf::NORMAL.0);
+    for (max_active_lights, want) in [
+        (0, 0xFF00_0000u32),
+        (1, 0xFFFF_0000),
+        (2, 0xFFFF_FF00),
+        (8, 0xFFFF_FFFF),
+    ] {
+        let caps = Caps {
+            max_active_lights,
+            ..Caps::reference()
+        };
+        let mut d = dev_caps(8, 8, caps);
+        d.set_render_state(Rs::LIGHTING, true);
+        d.set_material(Material {
+            diffuse: [1.0; 4],
+            ambient: [0.0; 4],
+            specular: [0.0; 4],
+            emissive: [0.0; 4],
+            power: 0.0,
+        });
+        for (i, diffuse) in rgb.iter().enumerate() {
+            let light = Light {
+                diffuse: *diffuse,
+                ..Light::DEFAULT
+            };
+            d.set_light(i as u32, light).unwrap();
+            d.light_enable(i as u32, true);
+        }
+        // At the target's centre, its normal towards the viewer, against the lights' +z.
+        draw(
+            &mut d,
+            normal,
+            &[f(0.0), f(0.0), f(0.5), f(0.0), f(0.0), f(-1.0)],
+        );
+        assert_eq!(
+            target(&mut d).pixel(4, 4),
+            want,
+            "MaxActiveLights {max_active_lights}"
+        );
+    }
 }
