@@ -237,6 +237,12 @@ fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
             scene.clip_plane_scaled_points
         ));
     }
+    if scene.w_fog != device.w_fog {
+        diffs.push(format!("w_fog {}", scene.w_fog));
+    }
+    if scene.max_active_lights != device.max_active_lights {
+        diffs.push(format!("max_active_lights {}", scene.max_active_lights));
+    }
     (!diffs.is_empty()).then(|| {
         format!(
             "compared at the device's caps (the scene asks for {})",

@@ -67,6 +67,8 @@ struct JsonDevice<'a> {
     max_point_size: f32,
     fvfcaps_psize: bool,
     clip_plane_scaled_points: bool,
+    w_fog: bool,
+    max_active_lights: u32,
 }
 
 #[derive(Serialize)]
@@ -92,6 +94,8 @@ pub fn json(device: &DeviceInfo, cases: &[CaseReport]) -> String {
             max_point_size: device.max_point_size,
             fvfcaps_psize: device.fvfcaps_psize,
             clip_plane_scaled_points: device.clip_plane_scaled_points,
+            w_fog: device.w_fog,
+            max_active_lights: device.max_active_lights,
         },
         cases: cases
             .iter()
@@ -250,6 +254,11 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
             "no"
         },
     );
+    row(
+        "D3DPRASTERCAPS_WFOG",
+        if device.w_fog { "yes" } else { "no" },
+    );
+    row("MaxActiveLights", &device.max_active_lights.to_string());
     h.push_str("</table>\n<p>pointillist renders every case with these caps.</p>\n");
 
     // The summary: per rule cited, grouped by SPEC section.

@@ -198,7 +198,7 @@ fn a_particle_frame_is_exported_as_drawn() {
 }
 
 const DEVICE_TXT: &str = "format=1\ndescription=Test Adapter 9000\ndriver=test.dll\n\
-    max_point_size=64\nfvfcaps_psize=1\nclip_plane_scaled_points=1\n";
+    max_point_size=64\nfvfcaps_psize=1\nclip_plane_scaled_points=1\nmax_active_lights=4\n";
 
 /// A 16x16 scene with one pre-transformed point of `size` pixels (POINTSIZE) at (8, 8).
 fn point_scene(size: f32) -> String {
@@ -295,7 +295,8 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     assert_eq!(
         json["device"],
         serde_json::json!({"description": "Test Adapter 9000", "max_point_size": 64.0,
-            "fvfcaps_psize": true, "clip_plane_scaled_points": true})
+            "fvfcaps_psize": true, "clip_plane_scaled_points": true, "w_fog": true,
+            "max_active_lights": 4})
     );
     let cases = json["cases"].as_array().unwrap();
     let by_scene = |n: &str| {
@@ -345,6 +346,8 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     let html = fs::read_to_string(report.join("index.html")).unwrap();
     for needle in [
         "Test Adapter 9000",
+        "<td>MaxActiveLights</td><td>4</td>",
+        "<td>D3DPRASTERCAPS_WFOG</td><td>yes</td>",
         "the test device",
         "a greener orange",
         "id=\"changed\"",
