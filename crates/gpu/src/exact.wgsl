@@ -82,12 +82,19 @@ var<workgroup> masks: array<array<atomic<u32>, MASK_WORDS>, 3>;
 // core `write_pixel` after shading: depth test and write (SPEC 5.4), blend (5.5), mask (5.6).
 fn apply(index: u32, i: i32, j: i32, color: ptr<function, u32>, depth: ptr<function, f32>) {
     let r = rec_rect(index);
-    if !(i >= r.x && i < r.z && j >= r.y && j < r.w) {
-        return;
-    }
     let at = index * REC_WORDS;
     let fi = f32(i);
     let fj = f32(j);
+    // Every invocation of the tile samples, inside the point or not: on lavapipe (Mesa 22.3) a
+    // texel fetch from mip level 1 or below made by only some invocations read transparent
+    // black for some of them.
+    var q = vec4u(0u);
+    if !FLAT {
+        q = pixel_color(at, fi, fj);
+    }
+    if !(i >= r.x && i < r.z && j >= r.y && j < r.w) {
+        return;
+    }
     for (var k = 0u; k < SPRITE_PLANES; k++) {
         let c = REC_PLANES + 3u * k;
         if !plane_keeps(vec3f(recf(at + c), recf(at + c + 1u), recf(at + c + 2u)), fi, fj) {
@@ -96,7 +103,6 @@ fn apply(index: u32, i: i32, j: i32, color: ptr<function, u32>, depth: ptr<funct
     }
     var src = RECS[at + 5u];
     if !FLAT {
-        let q = pixel_color(at, fi, fj);
         if !alpha_passes(q.a) {
             return; // SPEC 5.3
         }
@@ -148,14 +154,14 @@ fn cs_tiles(
         if li < MASK_WORDS {
             atomicStore(&masks[(b + 2u) % 3u][li], 0u);
         }
-        if inside {
-            // The touching points in vertex order: the mask's bits from the lowest.
-            for (var w = 0u; w < MASK_WORDS; w++) {
-                var bits = atomicLoad(&masks[m][w]);
-                while bits != 0u {
-                    apply(b * BATCH + w * 32u + firstTrailingBit(bits), i, j, &color, &depth);
-                    bits &= bits - 1u;
-                }
+        // The touching points in vertex order: the mask's bits from the lowest. Invocations
+        // outside the target run too (their registers are never stored), so that every
+        // invocation samples alike (see `apply`).
+        for (var w = 0u; w < MASK_WORDS; w++) {
+            var bits = atomicLoad(&masks[m][w]);
+            while bits != 0u {
+                apply(b * BATCH + w * 32u + firstTrailingBit(bits), i, j, &color, &depth);
+                bits &= bits - 1u;
             }
         }
     }
