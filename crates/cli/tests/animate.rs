@@ -318,4 +318,25 @@ fn view_opens_renders_and_closes() {
     assert!(o.status.success(), "{}", stderr(&o));
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.starts_with("10 frames, "), "{stdout}");
+    // Without --backend, one line says which backend draws; here and in CI the only adapter is
+    // lavapipe, a software rasterizer, so it is the CPU backend.
+    let err = stderr(&o);
+    let chosen: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("view: drawing on the "))
+        .collect();
+    assert_eq!(chosen.len(), 1, "{err}");
+    let backend = if chosen[0].starts_with("view: drawing on the CPU backend") {
+        "cpu"
+    } else {
+        "gpu"
+    };
+    assert!(
+        stdout.contains(&format!("on the {backend} backend")),
+        "{stdout} / {err}"
+    );
+    let caps = pointillist(&["caps", "--backend", "gpu"]);
+    if String::from_utf8_lossy(&caps.stdout).contains("(Cpu)") || !caps.status.success() {
+        assert_eq!(backend, "cpu", "{err}");
+    }
 }
