@@ -36,12 +36,14 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     } else {
         scene.replay(&mut device).map_err(|e| e.to_string())?;
     }
+    let notices = device.take_notices();
     let target = device
-        .read_target()
+        .into_target()
         .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
-    dest.write_png(target.width, target.height, &target.to_rgba8())
+    let (width, height) = (target.width, target.height);
+    dest.write_png(width, height, &target.into_rgba8())
         .map_err(|e| e.to_string())?;
-    for notice in device.take_notices() {
+    for notice in notices {
         crate::report::warning(&format!("{scene_name}: {notice}"));
     }
     let draws = scene.draw_count();
@@ -55,8 +57,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     println!(
         "wrote {} ({}x{}, {what})",
         crate::report::printable(&args.output.display().to_string()),
-        target.width,
-        target.height,
+        width,
+        height,
     );
     Ok(())
 }

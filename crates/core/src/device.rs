@@ -27,6 +27,10 @@ pub const MAX_TARGET_SIZE: u32 = 16384;
 /// SCENE.md): a bigger DrawPrimitiveUP is refused with [`DeviceError::TooManyVertices`] before
 /// the backend sees it, like D3D9 refuses more than D3DCAPS9.MaxPrimitiveCount points.
 pub const MAX_DRAW_VERTICES: usize = 1 << 24;
+/// The most memory a backend holds for one draw besides its target and the draw's vertices
+/// (the CPU rasterizer's bins: a draw whose points would bin more is drawn in passes), so that a
+/// render's memory can be budgeted before it runs.
+pub const DRAW_SCRATCH_BYTES: u64 = 256 << 20;
 
 /// D3DTRANSFORMSTATETYPE for the three fixed-function transforms.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -224,6 +228,32 @@ impl RenderTarget {
             .flat_map(|&c| crate::color::argb_to_rgba8(c))
             .collect()
     }
+
+    /// The pixels as RGBA8 bytes like [`RenderTarget::to_rgba8`], converted where they lie: the
+    /// depth buffer is freed and no second image is allocated (a 16384x16384 target holds 2 GiB
+    /// with its depth; a copy would add 1 GiB).
+    pub fn into_rgba8(self) -> Rgba8 {
+        let mut words = self.color;
+        drop(self.depth);
+        for w in &mut words {
+            *w = u32::from_ne_bytes(crate::color::argb_to_rgba8(*w));
+        }
+        Rgba8 { words }
+    }
+}
+
+/// RGBA8 bytes, four a pixel, rows top to bottom, from [`RenderTarget::into_rgba8`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rgba8 {
+    /// Each pixel's bytes in memory order.
+    words: Vec<u32>,
+}
+
+impl std::ops::Deref for Rgba8 {
+    type Target = [u8];
+    fn deref(&self) -> &[u8] {
+        bytemuck::cast_slice(&self.words)
+    }
 }
 
 /// What a backend implements. The device validates every call before it reaches here.
@@ -242,6 +272,11 @@ pub trait Backend {
     fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError>;
     /// Reads the target back.
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError>;
+    /// Reads the target back for the last time: a backend that holds it in memory hands it over
+    /// instead of copying it (the device is dropped next).
+    fn take_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        self.read_target()
+    }
 }
 
 /// A boxed backend is a backend, so a program can choose one at run time
@@ -264,6 +299,9 @@ impl<B: Backend + ?Sized> Backend for Box<B> {
     }
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
         (**self).read_target()
+    }
+    fn take_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        (**self).take_target()
     }
 }
 
@@ -569,6 +607,12 @@ impl<B: Backend> Device<B> {
     /// Reads the render target back.
     pub fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
         self.backend.read_target()
+    }
+
+    /// Reads the render target back and ends the device: the target is handed over where the
+    /// backend holds it in memory, never copied (take the notices first).
+    pub fn into_target(mut self) -> Result<RenderTarget, DeviceError> {
+        self.backend.take_target()
     }
 }
 

@@ -23,9 +23,9 @@ pub mod texture;
 pub mod tolerance;
 
 pub use device::{
-    Backend, Device, DeviceDesc, DeviceError, MAX_DRAW_VERTICES, MAX_TARGET_SIZE, RenderTarget,
-    StateValue, TransformType, Vertex, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse,
-    XyzRhwPsizeDiffuse,
+    Backend, DRAW_SCRATCH_BYTES, Device, DeviceDesc, DeviceError, MAX_DRAW_VERTICES,
+    MAX_TARGET_SIZE, RenderTarget, StateValue, TransformType, Vertex, XyzDiffuse, XyzPsizeDiffuse,
+    XyzRhwDiffuse, XyzRhwPsizeDiffuse,
 };
 pub use draw::DrawSetup;
 pub use state::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES, Viewport};

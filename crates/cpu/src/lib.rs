@@ -109,4 +109,9 @@ impl Backend for CpuBackend {
         self.write_pending_clear();
         Ok(self.target.clone())
     }
+
+    fn take_target(&mut self) -> Result<RenderTarget, DeviceError> {
+        self.write_pending_clear();
+        Ok(std::mem::take(&mut self.target))
+    }
 }

@@ -25,7 +25,7 @@
 //! [`Lanes::N`] pixels at a time on the widest vectors the CPU has ([`mod@crate::lanes`]).
 
 use pointillist_core::color::{Rgba, pack, unpack};
-use pointillist_core::device::{MAX_STAGES, RenderTarget};
+use pointillist_core::device::{DRAW_SCRATCH_BYTES, MAX_STAGES, RenderTarget};
 use pointillist_core::draw::DrawSetup;
 use pointillist_core::pixel::{
     BlendClass, BlendSetup, PixelSetup, ShadeInputs, alpha_test_passes, blend, compare,
@@ -34,7 +34,7 @@ use pointillist_core::pixel::{
 use pointillist_core::point::{
     PixelPlane, PixelRect, PointSetup, ScreenPoint, sprite_coord, sprite_lod,
 };
-use pointillist_core::states::{TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
+use pointillist_core::states::{Cmp, TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
 use pointillist_core::texture::{
     Level, LodSampler, SamplerDesc, Texture, linear_texel, point_texel,
 };
@@ -167,6 +167,28 @@ impl Blender for SourceAlpha {
     #[inline(always)]
     fn blend4(&self, _: [u32; 4], src: &P4, dst: [u32; 4]) -> [u32; 4] {
         P4::source_alpha(*src, P4::from_argb(dst)).to_argb()
+    }
+
+    /// Four pixels at a time: an untextured sprite covering a whole target blends every pixel
+    /// of it (200 such points on 4096x4096 took 43 s one pixel at a time).
+    #[inline(always)]
+    fn blend_rect(&self, src: u32, band: &mut Band, r: PixelRect, mask: u32) {
+        let planar = P4::from_argb([src; 4]);
+        for j in rows(r, band) {
+            let row = (j - band.y0) as usize * band.width;
+            let pixels = &mut band.color[row + r.x0 as usize..row + r.x1 as usize];
+            let mut quads = pixels.chunks_exact_mut(4);
+            for q in &mut quads {
+                let dst = [q[0], q[1], q[2], q[3]];
+                let out = self.blend4([src; 4], &planar, dst);
+                for k in 0..4 {
+                    q[k] = write_masked(mask, out[k], dst[k]);
+                }
+            }
+            for px in quads.into_remainder() {
+                *px = write_masked(mask, self.blend(src, *px), *px);
+            }
+        }
     }
 
     #[inline(always)]
@@ -334,6 +356,8 @@ struct DrawContext<'a> {
     /// Whether the draw bins its points and fills bands in parallel (else point after point):
     /// [`PARALLEL_MIN_POINTS`] or more, or fewer covering [`PARALLEL_MIN_PIXELS`]. Tests set it.
     binned: bool,
+    /// The most bytes a binned draw's bins hold: [`DRAW_SCRATCH_BYTES`]. Tests set it.
+    scratch: usize,
     points: PointSetup,
     /// [`PixelSetup::is_flat`], once per draw.
     flat: bool,
@@ -555,6 +579,7 @@ fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
     let spans = Some(LanesLevel::detect()).filter(|l| !matches!(l, LanesLevel::Portable));
     let mut ctx = DrawContext {
         binned: false,
+        scratch: DRAW_SCRATCH_BYTES as usize,
         squares: SquareStage::new(&points, spans),
         flat: pixel.is_flat(),
         points,
@@ -609,7 +634,17 @@ fn draw_points<B: Blender, P: Binned>(
     let count = ctx.point_count();
     let threads = rayon::current_num_threads();
     if ctx.binned {
-        draw_binned::<B, P>(ctx, b, target, P::chunks(bins), clear, count, threads);
+        let scratch = ctx.scratch;
+        draw_binned::<B, P>(
+            ctx,
+            b,
+            target,
+            P::chunks(bins),
+            clear,
+            count,
+            threads,
+            scratch,
+        );
         return trim_bins(P::chunks(bins));
     }
     if let Some(c) = clear {
@@ -915,6 +950,22 @@ pub(crate) struct Bins {
     sprite: Vec<Chunk<Sprite>>,
 }
 
+impl Bins {
+    /// The bytes the bins hold.
+    #[cfg(test)]
+    fn bytes(&self) -> usize {
+        fn of<P>(chunks: &[Chunk<P>]) -> usize {
+            chunks
+                .iter()
+                .flat_map(|c| &c.bands)
+                .map(Vec::capacity)
+                .sum::<usize>()
+                * size_of::<P>()
+        }
+        of(&self.index) + of(&self.solid) + of(&self.sprite)
+    }
+}
+
 impl std::fmt::Debug for Bins {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Bins").finish_non_exhaustive()
@@ -956,50 +1007,91 @@ fn bin<P: Binned>(
         });
 }
 
-/// The parallel plan of the module contract with bins of `P`.
+/// The parallel plan of the module contract with bins of `P`, in passes: each pass bins the
+/// next vertices, as many as keep the bins within `scratch` bytes (see [`chunk_points`]), and
+/// fills every band with them before the next pass bins. Each band still applies its points
+/// in vertex order, so the pixels are those of one pass.
+#[allow(clippy::too_many_arguments)]
 fn draw_binned<B: Blender, P: Binned>(
     ctx: &DrawContext,
     b: &B,
     target: &mut RenderTarget,
     chunks: &mut Vec<Chunk<P>>,
-    clear: Option<Clear>,
+    mut clear: Option<Clear>,
     count: u32,
     threads: usize,
+    scratch: usize,
 ) {
     let width = target.width as usize;
     let bands = (target.height as usize).div_ceil(BAND_ROWS);
-    let chunk = (count as usize).div_ceil(threads * 4).max(1024) as u32;
-    let firsts: Vec<u32> = (0..count).step_by(chunk as usize).collect();
-    chunks.resize_with(firsts.len(), Chunk::default);
-    chunks
-        .par_iter_mut()
-        .zip(&firsts)
-        .for_each(|(c, &first)| bin(c, ctx, first..(first + chunk).min(count), bands));
-    let chunks = &*chunks;
-    target
-        .color
-        .par_chunks_mut(BAND_ROWS * width)
-        .zip(target.depth.par_chunks_mut(BAND_ROWS * width))
-        .enumerate()
-        .for_each(|(n, (color, depth))| {
-            if let Some((c, d)) = clear {
-                color.fill(c);
-                depth.fill(d);
-            }
-            let y0 = (n * BAND_ROWS) as i32;
-            let y1 = y0 + (color.len() / width) as i32;
-            let mut band = Band {
-                color,
-                depth,
-                width,
-                y0,
-                y1,
-            };
-            let mut scratch = Scratch::default();
-            for c in chunks {
-                P::fill_all(&c.bands[n], ctx, b, &mut band, &mut scratch);
-            }
-        });
+    let per_pass = threads * 4;
+    let chunk = chunk_points::<P>(ctx, bands, count, per_pass, scratch);
+    let pass = chunk as usize * per_pass;
+    for start in (0..count).step_by(pass) {
+        let end = (start as usize + pass).min(count as usize) as u32;
+        let firsts: Vec<u32> = (start..end).step_by(chunk as usize).collect();
+        chunks.resize_with(firsts.len(), Chunk::default);
+        chunks
+            .par_iter_mut()
+            .zip(&firsts)
+            .for_each(|(c, &first)| bin(c, ctx, first..(first + chunk).min(end), bands));
+        let chunks = &*chunks;
+        let clear = clear.take();
+        target
+            .color
+            .par_chunks_mut(BAND_ROWS * width)
+            .zip(target.depth.par_chunks_mut(BAND_ROWS * width))
+            .enumerate()
+            .for_each(|(n, (color, depth))| {
+                if let Some((c, d)) = clear {
+                    color.fill(c);
+                    depth.fill(d);
+                }
+                let y0 = (n * BAND_ROWS) as i32;
+                let y1 = y0 + (color.len() / width) as i32;
+                let mut band = Band {
+                    color,
+                    depth,
+                    width,
+                    y0,
+                    y1,
+                };
+                let mut scratch = Scratch::default();
+                for c in chunks {
+                    P::fill_all(&c.bands[n], ctx, b, &mut band, &mut scratch);
+                }
+            });
+    }
+}
+
+/// The vertices each of a pass's `chunks` bins: an even share of the draw's `count`, at least
+/// 1024, but never more than keep a chunk's bins (what [`bin`] reserves, and a band's vector
+/// grown to twice its points) within its share of `scratch`, for points that each touch the
+/// most bands this draw's size clamp allows (SPEC 2.3; rectangles lie inside the viewport).
+fn chunk_points<P>(
+    ctx: &DrawContext,
+    bands: usize,
+    count: u32,
+    chunks: usize,
+    scratch: usize,
+) -> u32 {
+    let vp = ctx.points.viewport_rect();
+    let mut rows = (vp.y1 - vp.y0).max(1) as usize;
+    let (_, hi) = ctx.points.size_bounds();
+    if ctx.points.is_single_pixel() {
+        rows = 1;
+    } else if hi < rows as f32 {
+        rows = hi.max(0.0) as usize + 2; // a square of size s covers at most s + 1 rows
+    }
+    let most_bands = (rows.div_ceil(BAND_ROWS) + 1).min(bands);
+    let per_point = size_of::<P>() * (2 * most_bands + 2);
+    let share = (scratch / chunks).saturating_sub(16 * bands * size_of::<P>());
+    let fit = (share / per_point).max(1);
+    (count as usize)
+        .div_ceil(chunks)
+        .max(1024)
+        .min(fit)
+        .min(u32::MAX as usize) as u32
 }
 
 /// Frees the bins of `P` after a draw when they hold more than [`RETAINED_BIN_BYTES`] and
@@ -1087,16 +1179,65 @@ fn fill_solid<B: Blender>(
     color: u32,
     band: &mut Band,
 ) {
-    if ctx.pixel.depth.is_none() {
+    let Some(depth) = ctx.pixel.depth else {
         // The common particle case: whole rows, blend and mask only.
         return b.blend_rect(color, band, r, ctx.pixel.write_mask);
-    }
+    };
+    // Each run of pixels passing the depth test is blended as a rectangle (a pixel's depth
+    // test and write still come before its blend; no pixel depends on another).
     for j in rows(r, band) {
         let row = (j - band.y0) as usize * band.width;
-        for at in row + r.x0 as usize..row + r.x1 as usize {
-            write_pixel(ctx, b, band, at, z, color);
+        let mut x = r.x0;
+        while x < r.x1 {
+            let depths = &mut band.depth[row + x as usize..row + r.x1 as usize];
+            let pass = depth_run(depth.func, z, depths, true);
+            if pass > 0 {
+                if depth.write {
+                    depths[..pass].fill(z);
+                }
+                let run = PixelRect {
+                    x0: x,
+                    y0: j,
+                    x1: x + pass as i32,
+                    y1: j + 1,
+                };
+                b.blend_rect(color, band, run, ctx.pixel.write_mask);
+                x += pass as i32;
+            }
+            let depths = &band.depth[row + x as usize..row + r.x1 as usize];
+            x += depth_run(depth.func, z, depths, false) as i32;
         }
     }
+}
+
+/// How many of `depths`, from the first, give the depth test of `z` (SPEC 5.4, core's
+/// [`compare`]) the result `pass`; the function is matched once, not per pixel.
+#[inline(always)]
+fn depth_run(func: Cmp, z: f32, depths: &[f32], pass: bool) -> usize {
+    #[inline(always)]
+    fn run(depths: &[f32], pass: bool, test: impl Fn(f32) -> bool) -> usize {
+        depths
+            .iter()
+            .position(|&d| test(d) != pass)
+            .unwrap_or(depths.len())
+    }
+    macro_rules! each {
+        ($($f:ident),*) => {
+            match func {
+                $(Cmp::$f => run(depths, pass, |d| compare(Cmp::$f, z, d)),)*
+            }
+        };
+    }
+    each!(
+        Never,
+        Less,
+        Equal,
+        LessEqual,
+        Greater,
+        NotEqual,
+        GreaterEqual,
+        Always
+    )
 }
 
 /// The per-point part of a textured sprite: u per column, one sampler per stage at the sprite's
@@ -1549,6 +1690,76 @@ mod tests {
         });
     }
 
+    /// Untextured points (filled as runs of pixels passing the depth test, blended a rectangle
+    /// at a time) give the pixels of the general path's pixel-by-pixel depth test and blend,
+    /// for every depth function, with and without depth writes, under channel masks.
+    #[test]
+    fn solid_runs_match_the_general_path() {
+        let mut rng = Rng(0x50_11D5_0000_0019);
+        for scene in 0..48 {
+            let (w, h) = (40, 36);
+            let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+            device.set_render_state(RenderState::LIGHTING, false);
+            device.set_render_state(RenderState::ZENABLE, true);
+            let func = rng.pick(&[
+                Cmp::Less,
+                Cmp::LessEqual,
+                Cmp::Equal,
+                Cmp::Greater,
+                Cmp::NotEqual,
+                Cmp::GreaterEqual,
+                Cmp::Always,
+                Cmp::Never,
+            ]);
+            device.set_render_state(RenderState::ZFUNC, func as u32);
+            device.set_render_state(RenderState::ZWRITEENABLE, scene % 2 == 0);
+            device.set_render_state(RenderState::COLORWRITEENABLE, rng.pick(&[0xF, 0x7, 0x5]));
+            let blend = rng.pick(&[
+                (Blend::SrcAlpha, Blend::InvSrcAlpha),
+                (Blend::One, Blend::One),
+                (Blend::DestColor, Blend::Zero),
+            ]);
+            device.set_render_state(RenderState::ALPHABLENDENABLE, scene % 5 != 4);
+            device.set_render_state(RenderState::SRCBLEND, blend.0);
+            device.set_render_state(RenderState::DESTBLEND, blend.1);
+            let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+            let mut vertices = Vec::new();
+            for _ in 0..60 {
+                let z = rng.pick(&[0.25f32, 0.5, 0.75]);
+                let words = [
+                    rng.range(-4.0, 44.0).to_bits(),
+                    rng.range(-4.0, 40.0).to_bits(),
+                    z.to_bits(),
+                    1.0f32.to_bits(),
+                    rng.range(1.0, 30.0).to_bits(),
+                    rng.next(),
+                ];
+                vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+            }
+            let state = device.state();
+            // A depth buffer of steps, so that tests pass and fail in runs along a row.
+            let start = || {
+                let mut t = RenderTarget::new(w, h, 0xFF40_6080, 1.0);
+                for (i, d) in t.depth.iter_mut().enumerate() {
+                    *d = [0.3, 0.5, 0.6, 1.0][(i / 3) % 4];
+                }
+                t
+            };
+            let mut general = start();
+            draw_general(&mut general, state, fvf, &vertices);
+            let mut solid = start();
+            let ctx = context(&DrawSetup::new(state, fvf), &vertices);
+            assert!(ctx.flat && ctx.shading == Shading::Diffuse);
+            draw_context(&ctx, &mut solid, &mut Bins::default(), None);
+            assert!(solid.color == general.color, "scene {scene}: colour");
+            assert!(solid.depth == general.depth, "scene {scene}: depth");
+            assert!(
+                solid.color.iter().filter(|&&c| c != 0xFF40_6080).count() > 50
+                    || func == Cmp::Never
+            );
+        }
+    }
+
     /// Random textured-sprite scenes through the fast paths (span sampler, [`F4`] arithmetic,
     /// blend fast paths, threads) and through the general path give the same pixels.
     #[test]
@@ -1729,18 +1940,25 @@ mod tests {
                 vertices.extend(row.iter().flat_map(|w| w.to_le_bytes()));
             }
             let state = device.state();
-            let drawn = |threads: usize, binned: bool| {
+            let drawn = |threads: usize, binned: bool, scratch: usize| {
                 let mut target = RenderTarget::new(w, h, 0xFF10_2030, 1.0);
                 let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
                 ctx.binned = binned;
+                ctx.scratch = scratch;
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
                     .build()
                     .unwrap();
-                pool.install(|| draw_context(&ctx, &mut target, &mut Bins::default(), None));
+                let mut bins = Bins::default();
+                pool.install(|| draw_context(&ctx, &mut target, &mut bins, None));
+                assert!(
+                    bins.bytes() <= scratch,
+                    "scene {scene}, {threads} threads: bins of {} bytes, above {scratch}",
+                    bins.bytes()
+                );
                 target
             };
-            let sequential = drawn(1, false);
+            let sequential = drawn(1, false, usize::MAX);
             assert!(
                 sequential
                     .color
@@ -1749,15 +1967,16 @@ mod tests {
                     .count()
                     > 1000
             );
-            for threads in [1, 2, 3] {
-                let binned = drawn(threads, true);
+            // One pass, then many: bins of at most 256 KiB hold a few hundred of these points.
+            for (threads, scratch) in [(1, 1 << 28), (2, 1 << 28), (3, 1 << 28), (2, 1 << 18)] {
+                let binned = drawn(threads, true, scratch);
                 assert!(
                     binned.color == sequential.color,
-                    "scene {scene}, {threads} threads: colour"
+                    "scene {scene}, {threads} threads, {scratch} bytes of bins: colour"
                 );
                 assert!(
                     binned.depth == sequential.depth,
-                    "scene {scene}, {threads} threads: depth"
+                    "scene {scene}, {threads} threads, {scratch} bytes of bins: depth"
                 );
             }
         }
@@ -1772,6 +1991,48 @@ mod tests {
             dst_alpha: dst,
             op_alpha: BlendOp::Add,
             factor: [1.0; 4],
+        }
+    }
+
+    /// The source-alpha rectangle (four pixels at a time) writes what the reference blend
+    /// writes at each pixel, through any channel mask, at every column offset.
+    #[test]
+    fn source_alpha_rect_matches_the_reference_blend() {
+        let setup = setup(Blend::SrcAlpha, Blend::InvSrcAlpha);
+        let mut rng = Rng(0x5EED_0A1F_0000_0003);
+        // A band of rows 1..3 of a target 13 pixels wide; the rectangle spans rows 0..2.
+        let (width, height) = (13usize, 2usize);
+        for _ in 0..2000 {
+            let src = rng.next();
+            let mask = rng.pick(&[0xFFFF_FFFF, 0x00FF_FFFF, 0xFF00_FF00, 0]);
+            let before: Vec<u32> = (0..width * height).map(|_| rng.next()).collect();
+            let (mut color, mut depth) = (before.clone(), vec![1.0; width * height]);
+            let x0 = (rng.next() % 5) as i32;
+            let x1 = x0 + (rng.next() % 9) as i32;
+            let r = PixelRect {
+                x0,
+                y0: 0,
+                x1,
+                y1: 2,
+            };
+            let mut band = Band {
+                color: &mut color,
+                depth: &mut depth,
+                width,
+                y0: 1,
+                y1: 3,
+            };
+            SourceAlpha.blend_rect(src, &mut band, r, mask);
+            for (i, (&got, &was)) in color.iter().zip(&before).enumerate() {
+                let (x, y) = ((i % width) as i32, (i / width) as i32 + 1);
+                let inside = (x0..x1).contains(&x) && y == 1;
+                let want = if inside {
+                    write_masked(mask, blend(&setup, src, was), was)
+                } else {
+                    was
+                };
+                assert_eq!(got, want, "src {src:08X} mask {mask:08X} at ({x}, {y})");
+            }
         }
     }
 

@@ -59,7 +59,10 @@ pub const MAX_TARGET_SIZE: u32 = pointillist_core::MAX_TARGET_SIZE;
 /// its mip chain, every draw's vertices and every emitter's particle storage. A scene over it is
 /// refused while it is read, at the key that crosses it, before the memory is taken.
 pub const MEMORY_BUDGET: u64 = 4 << 30;
-/// Bytes a render holds per target pixel: D3DCOLOR, depth and the RGBA8 copy written out.
+/// Bytes a render holds per target pixel: D3DCOLOR, depth and the PNG written out (the target
+/// is converted to RGBA8 where it lies; the encoder holds the compressed image until it ends,
+/// as large as the pixels when they do not compress). The render also holds one draw's scratch,
+/// [`pointillist_core::DRAW_SCRATCH_BYTES`], charged with the target.
 pub const TARGET_BYTES_PER_PIXEL: u64 = 12;
 /// Bytes an emitter holds per particle of `max_particles`: eleven f32 columns, its
 /// XYZ | PSIZE | DIFFUSE vertex, and when sorted a key and a second vertex copy.

@@ -240,7 +240,7 @@ impl Parser<'_> {
         let pixels = u64::from(self.target.width) * u64::from(self.target.height);
         self.charge(
             Charge::Target,
-            pixels * TARGET_BYTES_PER_PIXEL,
+            pixels * TARGET_BYTES_PER_PIXEL + pointillist_core::DRAW_SCRATCH_BYTES,
             target,
             "target",
             "the render target",

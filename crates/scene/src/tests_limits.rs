@@ -142,14 +142,15 @@ fn a_device_file_is_not_read_as_vertices_or_texture() {
 
 #[test]
 fn a_scene_over_the_memory_budget_is_refused_at_the_key_that_crosses_it() {
-    // The largest target (3 GiB with its depth buffer and output copy) and the largest emitter
+    // The largest target (3.25 GiB with its depth buffer, the PNG written and one draw's
+    // scratch, DRAW_SCRATCH_BYTES) and the largest emitter
     // (1.5 GiB of particle storage): nothing is allocated while the file is read.
     let src = "format = 1\n[target]\nwidth = 16384\nheight = 16384\n\
                [[emitter]]\nrate = 10\nmax_particles = 16777216\n";
     assert_eq!(
         err_at(src, Path::new("big.toml")),
         "big.toml:7:17: emitter[0].max_particles: this emitter's particle storage takes 1.5 GiB, \
-         which brings the render to 4.5 GiB, above the memory budget of 4.0 GiB (target 3.0 \
+         which brings the render to 4.8 GiB, above the memory budget of 4.0 GiB (target 3.2 \
          GiB, textures 0 B, vertices 0 B, particles 1.5 GiB)"
     );
     // Half of each fits.
@@ -177,12 +178,12 @@ fn a_texture_is_charged_from_its_header_before_it_is_decoded() {
              [[texture]]\nstage = 0\nfile = \"huge.png\"\n"
         )
     };
-    // 3 GiB of target, then 512 MiB of decoder output and a 682.7 MiB mip chain.
+    // 3.25 GiB of target and draw scratch, then 512 MiB of decoder output and a 682.7 MiB mip chain.
     assert_eq!(
         err_at(&scene(16384), &file),
         format!(
             "{}:7:8: texture[0].file: decoding this texture file takes 1.2 GiB, which brings the \
-             render to 4.2 GiB, above the memory budget of 4.0 GiB (target 3.0 GiB, textures \
+             render to 4.4 GiB, above the memory budget of 4.0 GiB (target 3.2 GiB, textures \
              1.2 GiB, vertices 0 B, particles 0 B)",
             file.display()
         )
