@@ -11,20 +11,22 @@ use std::path::Path;
 
 use pointillist_core::Backend;
 use pointillist_cpu::CpuBackend;
-use pointillist_gpu::{AdapterSummary, GpuBackend, GpuContext};
+use pointillist_gpu::{AdapterSummary, GpuBackend, GpuContext, GpuError};
 
 use crate::BackendKind;
 
 /// The backend a command draws with (core's `Backend for Box<B>`).
 pub type CliBackend = Box<dyn Backend>;
 
-/// The GPU context, or the one-line reason there is none.
+/// The GPU context, or the one-line reason there is none (with how to get a driver when no
+/// adapter was found).
 pub fn gpu_context() -> Result<std::sync::Arc<GpuContext>, String> {
-    GpuContext::shared().map_err(|e| {
-        format!(
+    GpuContext::shared().map_err(|e| match e {
+        GpuError::NoAdapter(_) => format!(
             "--backend gpu: {e} (a Vulkan, Metal, D3D12 or OpenGL driver is needed; on Debian \
              `apt-get install mesa-vulkan-drivers libvulkan1` gives a software one)"
-        )
+        ),
+        _ => format!("--backend gpu: {e}"),
     })
 }
 

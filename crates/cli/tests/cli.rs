@@ -299,6 +299,43 @@ fn usage_errors_are_one_line() {
     );
 }
 
+/// An OpenGL adapter without depth copies (Mesa's llvmpipe through EGL) is refused when the
+/// backend opens, in one line naming the missing downlevel flag, instead of failing at
+/// readback after the render. Skipped where wgpu finds no OpenGL adapter.
+#[test]
+fn an_opengl_adapter_without_depth_copies_is_refused_naming_the_flag() {
+    let dir = TempDir::new("gl");
+    let scene = dir.write("s.toml", SQUARE);
+    let png = dir.path("gl.png");
+    let out = command()
+        .args([
+            "render",
+            path_arg(&scene),
+            "-o",
+            path_arg(&png),
+            "--backend",
+            "gpu",
+        ])
+        .env("WGPU_BACKEND", "gl")
+        .output()
+        .unwrap();
+    if out.status.success() {
+        eprintln!("this OpenGL adapter has what the backend needs");
+        return;
+    }
+    let line = one_error_line(&out);
+    assert!(!png.exists());
+    if line.contains("no GPU adapter available") {
+        eprintln!("skipping: {line}");
+        return;
+    }
+    assert!(
+        line.starts_with("error: --backend gpu: not supported by the GPU backend: the adapter ")
+            && line.contains("(Gl) lacks wgpu's downlevel flag DEPTH_TEXTURE_AND_BUFFER_COPIES"),
+        "{line}"
+    );
+}
+
 #[test]
 fn the_gpu_backend_renders_the_cpu_backends_pixels_or_says_why_not() {
     let dir = TempDir::new("gpu");

@@ -80,7 +80,17 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
                  {TOML_DEPTH} levels"
             ),
         ),
-        (span, _) => src.error(&span.unwrap_or(0..0), "", e.message()),
+        (span, _) => {
+            let span = span.unwrap_or(0..0);
+            // The TOML reader's "duplicate key" points at the key without naming it.
+            let message = match text.get(span.clone()) {
+                Some(key) if e.message() == "duplicate key" && !key.is_empty() => {
+                    format!("duplicate key `{key}`")
+                }
+                _ => e.message().to_string(),
+            };
+            src.error(&span, "", message)
+        }
     })?;
     let root: Value<'_> = Spanned::new(root.span(), DeValue::Table(root.into_inner()));
     let base = file.parent().map(Path::to_path_buf).unwrap_or_default();

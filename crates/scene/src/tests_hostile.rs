@@ -20,6 +20,24 @@ fn control_characters_in_an_error_are_escaped() {
     assert!(e.to_string().starts_with("a\\rb.toml:1:10: format:"), "{e}");
 }
 
+/// The TOML reader reported "duplicate key" with a position but no key (found by the
+/// structured round of docs/RELIABILITY.md).
+#[test]
+fn a_duplicate_key_or_table_is_named() {
+    assert_eq!(
+        err("[states]\nPOINTSIZE = 4.0\nPOINTSIZE = 8.0\n"),
+        "tests/data/test.toml:7:1: duplicate key `POINTSIZE`"
+    );
+    assert_eq!(
+        err("clear = 1\nclear = 2\n"),
+        "tests/data/test.toml:6:1: duplicate key `clear`"
+    );
+    assert_eq!(
+        err("[states]\n[states]\n"),
+        "tests/data/test.toml:6:2: duplicate key `states`"
+    );
+}
+
 #[test]
 fn names_that_differ_only_in_case_are_duplicate_keys() {
     assert_eq!(
