@@ -40,6 +40,7 @@ pub fn create(kind: BackendKind) -> Result<CliBackend, String> {
 
 /// The backend of a command run without `--backend`, and the line that says so (for standard
 /// error): see [`prefer`].
+#[cfg_attr(not(feature = "viewer"), allow(dead_code))]
 pub fn automatic() -> (BackendKind, String) {
     let context = gpu_context();
     prefer(
@@ -55,6 +56,7 @@ pub fn automatic() -> (BackendKind, String) {
 /// (wgpu's `DeviceType::Cpu`: Mesa lavapipe and llvmpipe, WARP, SwiftShader), which draws the
 /// same points many times slower than the CPU backend (docs/PERFORMANCE.md: 18 ms a snow frame
 /// on lavapipe against 1.6 ms).
+#[cfg_attr(not(feature = "viewer"), allow(dead_code))]
 pub fn prefer(adapter: Result<&AdapterSummary, &str>) -> (BackendKind, String) {
     match adapter {
         Ok(a) if a.device_type == format!("{:?}", wgpu::DeviceType::Cpu) => (
