@@ -247,7 +247,7 @@ pub fn animate<B: Backend>(
         _ => Some(dests[0].create().map_err(|e| e.to_string())?),
     };
     let dests = if file.is_some() { Vec::new() } else { dests };
-    let mut sink = Sink::new(
+    let (sink, _child_guard) = Sink::new(
         format,
         file.as_mut(),
         dests,
@@ -259,25 +259,55 @@ pub fn animate<B: Backend>(
         observer,
     )?;
     let mut buffers = DrawBuffers::new();
-    let mut rgba = Vec::new();
     observer.start(frames);
-    for k in 0..frames {
-        scene
-            .render_frame(&mut device, &mut system, &mut buffers, k)
-            .map_err(|e| e.to_string())?;
-        let target = device
-            .read_target()
-            .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
-        rgba.clear();
-        rgba.extend(
-            target
-                .color
-                .iter()
-                .flat_map(|&c| pointillist_core::color::argb_to_rgba8(c)),
-        );
-        sink.frame(width, height, &mut rgba, out)?;
-        observer.frame_done(k)?;
-    }
+    // Pipelined: this thread simulates and draws frame k + 1 while another encodes frame k.
+    // Two RGBA buffers go round (drawn -> `full` -> encoded -> `free`), so frames reach the
+    // sink in order, and the bytes are those of drawing and encoding one frame after another.
+    let sink = std::thread::scope(|s| -> Result<Sink<'_>, String> {
+        let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Vec<u8>>(1);
+        let (free_tx, free_rx) = std::sync::mpsc::channel::<Vec<u8>>();
+        let encoder = s.spawn(move || -> Result<Sink<'_>, String> {
+            let mut sink = sink;
+            for mut rgba in full_rx {
+                sink.frame(width, height, &mut rgba, out)?;
+                // The drawing thread may have stopped; the buffer is then not needed.
+                let _ = free_tx.send(rgba);
+            }
+            Ok(sink)
+        });
+        let drawn = (|| -> Result<(), String> {
+            let mut spare = vec![Vec::new(), Vec::new()];
+            for k in 0..frames {
+                scene
+                    .render_frame(&mut device, &mut system, &mut buffers, k)
+                    .map_err(|e| e.to_string())?;
+                let target = device
+                    .read_target()
+                    .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
+                // No buffer back: the encoder failed, and its error is the one to report.
+                let Some(mut rgba) = spare.pop().or_else(|| free_rx.recv().ok()) else {
+                    return Ok(());
+                };
+                rgba.clear();
+                rgba.extend(
+                    target
+                        .color
+                        .iter()
+                        .flat_map(|&c| pointillist_core::color::argb_to_rgba8(c)),
+                );
+                if full_tx.send(rgba).is_err() {
+                    return Ok(());
+                }
+                observer.frame_done(k)?;
+            }
+            Ok(())
+        })();
+        drop(full_tx);
+        let sink = encoder
+            .join()
+            .map_err(|_| "internal error: the frame encoder panicked".to_string())??;
+        drawn.map(|()| sink)
+    })?;
     sink.finish(out)?;
     if let Some(file) = file {
         file.commit().map_err(|e| e.to_string())?;

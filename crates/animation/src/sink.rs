@@ -70,11 +70,11 @@ pub(crate) enum Sink<'f> {
 }
 
 /// A running ffmpeg that is killed when dropped unfinished, before its output is removed; its
-/// guard (from [`Observer::guard_child`]) is dropped after that.
+/// guard (from [`Observer::guard_child`], which [`Sink::new`] hands to the caller) must be
+/// dropped after that.
 pub(crate) struct Ffmpeg {
     child: Option<Child>,
     stdin: Option<ChildStdin>,
-    _guard: Box<dyn std::any::Any>,
 }
 
 impl Ffmpeg {
@@ -116,7 +116,8 @@ impl Drop for Ffmpeg {
 
 impl<'f> Sink<'f> {
     /// Starts the output: `file` is the pending file of a single-file format, `dests` the
-    /// checked files of a sequence's frames.
+    /// checked files of a sequence's frames. With the sink comes ffmpeg's guard, if one was
+    /// started, for the caller to drop after the sink (the sink is `Send`, the guard need not be).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         format: Format,
@@ -128,15 +129,18 @@ impl<'f> Sink<'f> {
         frames: u32,
         compression: Compression,
         observer: &mut dyn Observer,
-    ) -> Result<Sink<'f>, String> {
+    ) -> Result<(Sink<'f>, Option<Box<dyn std::any::Any>>), String> {
         let (width, height) = size;
         let file = match (format, file) {
             (Format::PngSeq, _) => {
-                return Ok(Sink::Sequence {
-                    dests: dests.into_iter(),
-                    frames: Vec::with_capacity(frames as usize),
-                    compression,
-                });
+                return Ok((
+                    Sink::Sequence {
+                        dests: dests.into_iter(),
+                        frames: Vec::with_capacity(frames as usize),
+                        compression,
+                    },
+                    None,
+                ));
             }
             (_, Some(file)) => file,
             (_, None) => return Err("internal error: no output file".into()),
@@ -164,7 +168,7 @@ impl<'f> Sink<'f> {
                         out.display()
                     ));
                 }
-                Ok(Sink::Gif { encoder, delay })
+                Ok((Sink::Gif { encoder, delay }, None))
             }
             Format::Apng => {
                 let mut enc = png::Encoder::new(file, width, height);
@@ -176,7 +180,7 @@ impl<'f> Sink<'f> {
                 let (num, den) = apng_delay(fps);
                 enc.set_frame_delay(num, den).map_err(err)?;
                 let writer = enc.write_header().map_err(err)?;
-                Ok(Sink::Apng { writer })
+                Ok((Sink::Apng { writer }, None))
             }
             Format::PngSeq => unreachable!("handled above"),
             Format::Mp4 => {
@@ -195,12 +199,12 @@ impl<'f> Sink<'f> {
                         _ => format!("cannot start ffmpeg: {e}"),
                     })?;
                 let stdin = child.stdin.take();
+                let guard = observer.guard_child(child.id());
                 let ffmpeg = Ffmpeg {
-                    _guard: observer.guard_child(child.id()),
                     child: Some(child),
                     stdin,
                 };
-                Ok(Sink::Mp4 { ffmpeg })
+                Ok((Sink::Mp4 { ffmpeg }, Some(guard)))
             }
         }
     }
