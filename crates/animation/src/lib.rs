@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use pointillist_core::Device;
 use pointillist_core::device::Backend;
 use pointillist_image::output::Destination;
+pub use pointillist_image::png::Compression;
 use pointillist_particles::DrawBuffers;
 
 use sink::Sink;
@@ -126,6 +127,8 @@ pub struct Request {
     pub format: Option<Format>,
     /// Render this many frames instead of `[animation] frames` (`--frames`).
     pub frames: Option<u32>,
+    /// How PNG and APNG output is compressed (`--compression`).
+    pub compression: Compression,
 }
 
 /// What was written.
@@ -252,6 +255,7 @@ pub fn animate<B: Backend>(
         (width, height),
         anim.fps,
         frames,
+        request.compression,
         observer,
     )?;
     let mut buffers = DrawBuffers::new();

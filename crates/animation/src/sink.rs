@@ -6,6 +6,7 @@ use std::path::Path;
 use std::process::{Child, ChildStdin, Command, Stdio};
 
 use pointillist_image::output::{Destination, PendingFile, commit_all};
+use pointillist_image::png::Compression;
 
 use crate::{Format, Observer};
 
@@ -61,6 +62,7 @@ pub(crate) enum Sink<'f> {
     Sequence {
         dests: std::vec::IntoIter<Destination>,
         frames: Vec<PendingFile>,
+        compression: Compression,
     },
     Mp4 {
         ffmpeg: Ffmpeg,
@@ -124,6 +126,7 @@ impl<'f> Sink<'f> {
         size: (u32, u32),
         fps: f32,
         frames: u32,
+        compression: Compression,
         observer: &mut dyn Observer,
     ) -> Result<Sink<'f>, String> {
         let (width, height) = size;
@@ -132,6 +135,7 @@ impl<'f> Sink<'f> {
                 return Ok(Sink::Sequence {
                     dests: dests.into_iter(),
                     frames: Vec::with_capacity(frames as usize),
+                    compression,
                 });
             }
             (_, Some(file)) => file,
@@ -166,6 +170,7 @@ impl<'f> Sink<'f> {
                 let mut enc = png::Encoder::new(file, width, height);
                 enc.set_color(png::ColorType::Rgba);
                 enc.set_depth(png::BitDepth::Eight);
+                compression.apply(&mut enc);
                 let err = |e: png::EncodingError| format!("cannot write {}: {e}", out.display());
                 enc.set_animated(frames, 0).map_err(err)?;
                 let (num, den) = apng_delay(fps);
@@ -223,13 +228,23 @@ impl<'f> Sink<'f> {
             Sink::Apng { writer } => writer
                 .write_image_data(rgba)
                 .map_err(|e| format!("cannot write {}: {e}", out.display())),
-            Sink::Sequence { dests, frames } => {
+            Sink::Sequence {
+                dests,
+                frames,
+                compression,
+            } => {
                 let dest = dests
                     .next()
                     .ok_or_else(|| "internal error: more frames than files".to_string())?;
                 let mut file = dest.create().map_err(|e| e.to_string())?;
-                pointillist_image::png::write_png_rgba8(&mut file, width, height, rgba)
-                    .map_err(|e| format!("cannot write {}: {e}", dest.path().display()))?;
+                pointillist_image::png::write_png_rgba8(
+                    &mut file,
+                    width,
+                    height,
+                    rgba,
+                    *compression,
+                )
+                .map_err(|e| format!("cannot write {}: {e}", dest.path().display()))?;
                 file.close().map_err(|e| e.to_string())?;
                 frames.push(file);
                 Ok(())

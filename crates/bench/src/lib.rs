@@ -8,6 +8,7 @@
 
 pub mod llvmpipe;
 pub mod naive;
+pub mod scene_file;
 pub mod workloads;
 
 use std::time::{Duration, Instant};

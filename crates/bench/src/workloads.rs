@@ -42,6 +42,16 @@ impl Kind {
         }
     }
 
+    /// "w1".."w4".
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::W1 => "w1",
+            Kind::W2 => "w2",
+            Kind::W3 => "w3",
+            Kind::W4 => "w4",
+        }
+    }
+
     /// Parses "w1".."w4" (case-insensitive).
     pub fn parse(s: &str) -> Option<Kind> {
         match s.to_ascii_lowercase().as_str() {

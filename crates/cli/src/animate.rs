@@ -60,6 +60,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
         output: args.output.clone(),
         format: args.format.map(Format::from),
         frames: args.frames,
+        compression: args.compression.into(),
     };
     let mut terminal = Terminal { progress: None };
     let result = pointillist_animation::animate(

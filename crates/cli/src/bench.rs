@@ -35,7 +35,12 @@ is idle). With --peer llvmpipe the same points are drawn with Mesa llvmpipe's Op
 sprites (surfaceless EGL; Debian: libegl1 libegl-mesa0 libgl1-mesa-dri) and the ratio is
 printed. Threads: RAYON_NUM_THREADS sets how many the CPU backend and the simulation use;
 POINTILLIST_LANES=portable|avx2|avx512 the vectors its pixel spans run on (default: the
-widest the CPU has).";
+widest the CPU has).
+
+--end-to-end times what a user waits for instead: each workload is written as a scene file
+(its vertices in a raw `file =` buffer) and `pointillist render SCENE -o OUT.png` is run as a
+new process --frames times, alternating with an empty scene of the same size; the medians and
+their difference are printed, beside llvmpipe's frame with --peer llvmpipe.";
 
 /// Arguments of `pointillist bench`.
 #[derive(Debug, Args)]
@@ -63,6 +68,10 @@ pub struct BenchArgs {
     /// default (W3, W4, translucent particles).
     #[arg(long)]
     fixed_function_blending: bool,
+    /// Time the whole `pointillist render` of each workload's scene file to a PNG (a new
+    /// process each run, alternating with an empty scene of the same size) instead of frames.
+    #[arg(long)]
+    end_to_end: bool,
 }
 
 /// Flakes in the snow storm preset.
@@ -88,6 +97,20 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     };
     if args.frames == 0 {
         return Err("--frames must be at least 1".into());
+    }
+    if args.end_to_end {
+        if snow || args.naive || args.fixed_function_blending {
+            return Err("--end-to-end times w1..w4 only, without --naive \
+                        or --fixed-function-blending"
+                .into());
+        }
+        return crate::end_to_end::run(&crate::end_to_end::Options {
+            kinds: &kinds,
+            points: args.points,
+            runs: args.frames,
+            llvmpipe,
+            backend: args.backend,
+        });
     }
     let gpu = match args.backend {
         BackendKind::Cpu if args.fixed_function_blending => {

@@ -15,6 +15,7 @@ mod backend;
 mod bench;
 mod caps;
 mod conform;
+mod end_to_end;
 mod interrupt;
 mod render;
 mod report;
@@ -314,6 +315,9 @@ pub struct AnimateArgs {
     /// The backend that draws.
     #[arg(long, value_enum, ignore_case = true, default_value_t = BackendKind::Cpu)]
     pub backend: BackendKind,
+    /// How hard PNG and APNG output is compressed: the same pixels, smaller files, more time.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = PngCompression::Fast)]
+    pub compression: PngCompression,
 }
 
 /// Arguments of `pointillist view`.
@@ -341,6 +345,14 @@ pub enum BackendKind {
 }
 
 impl BackendKind {
+    /// The name `--backend` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            BackendKind::Cpu => "cpu",
+            BackendKind::Gpu => "gpu",
+        }
+    }
+
     /// For commands that draw on the CPU only: fails with the one-line reason for the GPU.
     /// Commands that take either create their backend with [`backend::create`].
     pub fn ensure_available(self) -> Result<(), String> {
@@ -368,6 +380,30 @@ pub struct RenderArgs {
     /// The backend that draws.
     #[arg(long, value_enum, ignore_case = true, default_value_t = BackendKind::Cpu)]
     pub backend: BackendKind,
+    /// How hard the PNG is compressed: the same pixels, smaller files, more time.
+    #[arg(long, value_enum, ignore_case = true, default_value_t = PngCompression::Fast)]
+    pub compression: PngCompression,
+}
+
+/// `--compression`: pointillist_image::png::Compression (docs/PERFORMANCE.md).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PngCompression {
+    /// fdeflate: many times faster than `default`, files about 1.1x to 1.5x larger.
+    Fast,
+    /// zlib level 6.
+    Default,
+    /// zlib level 9.
+    Best,
+}
+
+impl From<PngCompression> for pointillist_image::png::Compression {
+    fn from(c: PngCompression) -> Self {
+        match c {
+            PngCompression::Fast => Self::Fast,
+            PngCompression::Default => Self::Default,
+            PngCompression::Best => Self::Best,
+        }
+    }
 }
 
 /// Arguments of `pointillist caps`.

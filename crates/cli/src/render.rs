@@ -41,7 +41,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         .into_target()
         .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
     let (width, height) = (target.width, target.height);
-    dest.write_png(width, height, &target.into_rgba8())
+    dest.write_png(width, height, &target.into_rgba8(), args.compression.into())
         .map_err(|e| e.to_string())?;
     for notice in notices {
         crate::report::warning(&format!("{scene_name}: {notice}"));

@@ -1,8 +1,8 @@
 //! `pointillist view SCENE`: a window showing the scene live, with an orbit camera.
 //!
-//! Contract: the scene is drawn on the GPU backend when an adapter is found (without
-//! `--backend` it is tried first, with a note on standard error when it falls back), else on the
-//! CPU backend; the target is read back and blitted into the window with softbuffer, scaled to
+//! Contract: without `--backend` the scene is drawn on the GPU backend when wgpu finds a
+//! hardware adapter and on the CPU backend otherwise (no adapter, or a software rasterizer such
+//! as lavapipe: `backend::automatic`), and one line on standard error says which; the target is read back and blitted into the window with softbuffer, scaled to
 //! fit. The simulation runs in real time (steps of the
 //! scene's fixed time step); Space pauses, Right or `.` steps one frame while paused, R
 //! restarts, the left mouse button or the arrow keys orbit, the wheel or +/- zoom, Esc or Q
@@ -350,10 +350,10 @@ fn run_on<B: Backend>(
     Ok(())
 }
 
-/// Runs `pointillist view`: on the GPU backend when an adapter is found (or `--backend gpu`
-/// demands it), else on the CPU backend. Without `--backend`, a GPU that cannot be opened or
-/// cannot hold the scene's target (no adapter, out of memory, a target beyond its limits) is a
-/// one-line warning and the CPU backend draws instead.
+/// Runs `pointillist view` on the backend `--backend` names, or else on the one
+/// `backend::automatic` chooses, saying which on standard error. Without `--backend`, a GPU that
+/// cannot hold the scene's target (out of memory, a target beyond its limits) is a one-line
+/// warning and the CPU backend draws instead.
 pub fn run(args: &ViewArgs) -> Result<(), String> {
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
     let title = format!("pointillist - {}", args.scene.display());
@@ -368,15 +368,22 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
             Device::new(backend::create(BackendKind::Gpu)?, scene.device_desc()).map_err(cannot)?,
             "gpu",
         ),
-        None => match backend::create(BackendKind::Gpu)
-            .and_then(|b| Device::new(b, scene.device_desc()).map_err(cannot))
-        {
-            Ok(d) => (d, "gpu"),
-            Err(e) => {
-                crate::report::warning(&format!("{e}; drawing on the CPU backend"));
-                (cpu()?, "cpu")
+        None => {
+            let (kind, line) = backend::automatic();
+            eprintln!("view: {}", crate::report::printable(&line));
+            match kind {
+                BackendKind::Cpu => (cpu()?, "cpu"),
+                BackendKind::Gpu => match backend::create(BackendKind::Gpu)
+                    .and_then(|b| Device::new(b, scene.device_desc()).map_err(cannot))
+                {
+                    Ok(d) => (d, "gpu"),
+                    Err(e) => {
+                        crate::report::warning(&format!("{e}; drawing on the CPU backend"));
+                        (cpu()?, "cpu")
+                    }
+                },
             }
-        },
+        }
     };
     run_on(scene, title, device, name, args.frames)
 }

@@ -201,6 +201,37 @@ fn animate_and_render_refuse_bad_requests_in_one_line() {
     assert_eq!(dir.listing(), ["f.toml"]);
 }
 
+#[test]
+fn animate_compression_levels_write_the_same_frames_in_different_sizes() {
+    let dir = TempDir::new("apng_compression");
+    let scene = dir.write("f.toml", SCENE);
+    let mut files = Vec::new();
+    for level in ["fast", "default", "best"] {
+        let out = dir.path(&format!("{level}.png"));
+        let o = pointillist(&[
+            "animate",
+            path_arg(&scene),
+            "-o",
+            path_arg(&out),
+            "--compression",
+            level,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        files.push(out);
+    }
+    let frames = png_frames(&files[0], 4);
+    for f in &files[1..] {
+        assert_eq!(png_frames(f, 4), frames, "{}", f.display());
+    }
+    let size = |f: &Path| fs::metadata(f).unwrap().len();
+    assert!(
+        size(&files[1]) < size(&files[0]),
+        "default ({}) compresses smaller than fast ({})",
+        size(&files[1]),
+        size(&files[0])
+    );
+}
+
 /// The first `count` frames of the PNG or APNG at `path`, as RGBA8 bytes.
 fn png_frames(path: &Path, count: usize) -> Vec<Vec<u8>> {
     let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(path).unwrap()));
@@ -287,4 +318,25 @@ fn view_opens_renders_and_closes() {
     assert!(o.status.success(), "{}", stderr(&o));
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.starts_with("10 frames, "), "{stdout}");
+    // Without --backend, one line says which backend draws; here and in CI the only adapter is
+    // lavapipe, a software rasterizer, so it is the CPU backend.
+    let err = stderr(&o);
+    let chosen: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("view: drawing on the "))
+        .collect();
+    assert_eq!(chosen.len(), 1, "{err}");
+    let backend = if chosen[0].starts_with("view: drawing on the CPU backend") {
+        "cpu"
+    } else {
+        "gpu"
+    };
+    assert!(
+        stdout.contains(&format!("on the {backend} backend")),
+        "{stdout} / {err}"
+    );
+    let caps = pointillist(&["caps", "--backend", "gpu"]);
+    if String::from_utf8_lossy(&caps.stdout).contains("(Cpu)") || !caps.status.success() {
+        assert_eq!(backend, "cpu", "{err}");
+    }
 }

@@ -107,6 +107,42 @@ fn render_replaces_an_existing_output_and_accepts_backend_cpu() {
 }
 
 #[test]
+fn compression_levels_write_the_same_pixels_in_different_sizes() {
+    let dir = TempDir::new("compression");
+    let scene = repo_root().join("scenes/ring.toml");
+    let mut files = Vec::new();
+    for level in [None, Some("fast"), Some("default"), Some("best")] {
+        let png = dir.path(&format!("{}.png", level.unwrap_or("unset")));
+        let mut args = vec!["render", path_arg(&scene), "-o", path_arg(&png)];
+        args.extend(level.map(|l| ["--compression", l]).into_iter().flatten());
+        let out = pointillist(&args);
+        assert!(out.status.success(), "{}", stderr(&out));
+        files.push(png);
+    }
+    let pixels = read_rgba8_png(&files[0]);
+    for f in &files[1..] {
+        assert_eq!(read_rgba8_png(f), pixels, "{}", f.display());
+    }
+    let bytes: Vec<Vec<u8>> = files.iter().map(|f| fs::read(f).unwrap()).collect();
+    assert_eq!(bytes[0], bytes[1], "fast is the default");
+    assert!(
+        bytes[2].len() < bytes[1].len(),
+        "default ({} bytes) compresses smaller than fast ({} bytes)",
+        bytes[2].len(),
+        bytes[1].len()
+    );
+    let out = pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        "x.png",
+        "--compression",
+        "max",
+    ]);
+    assert!(one_error_line(&out).contains("max"), "{}", stderr(&out));
+}
+
+#[test]
 fn states_without_effect_on_points_are_warnings_naming_the_scene() {
     let dir = TempDir::new("notices");
     let scene = dir.write(
@@ -259,6 +295,43 @@ fn usage_errors_are_one_line() {
     let line = one_error_line(&pointillist(&["caps", "--profile", "voodoo"]));
     assert!(
         line.contains("voodoo") && line.contains("single_pixel"),
+        "{line}"
+    );
+}
+
+/// An OpenGL adapter without depth copies (Mesa's llvmpipe through EGL) is refused when the
+/// backend opens, in one line naming the missing downlevel flag, instead of failing at
+/// readback after the render. Skipped where wgpu finds no OpenGL adapter.
+#[test]
+fn an_opengl_adapter_without_depth_copies_is_refused_naming_the_flag() {
+    let dir = TempDir::new("gl");
+    let scene = dir.write("s.toml", SQUARE);
+    let png = dir.path("gl.png");
+    let out = command()
+        .args([
+            "render",
+            path_arg(&scene),
+            "-o",
+            path_arg(&png),
+            "--backend",
+            "gpu",
+        ])
+        .env("WGPU_BACKEND", "gl")
+        .output()
+        .unwrap();
+    if out.status.success() {
+        eprintln!("this OpenGL adapter has what the backend needs");
+        return;
+    }
+    let line = one_error_line(&out);
+    assert!(!png.exists());
+    if line.contains("no GPU adapter available") {
+        eprintln!("skipping: {line}");
+        return;
+    }
+    assert!(
+        line.starts_with("error: --backend gpu: not supported by the GPU backend: the adapter ")
+            && line.contains("(Gl) lacks wgpu's downlevel flag DEPTH_TEXTURE_AND_BUFFER_COPIES"),
         "{line}"
     );
 }

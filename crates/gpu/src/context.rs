@@ -98,6 +98,8 @@ pub struct GpuContext {
     device: wgpu::Device,
     queue: wgpu::Queue,
     summary: AdapterSummary,
+    /// Discrete, integrated, virtual or CPU (bounds the exact path's work).
+    device_type: wgpu::DeviceType,
     limits: wgpu::Limits,
     bind_group_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
@@ -204,9 +206,40 @@ fn cached<T: Clone>(
     Ok(value)
 }
 
+/// The downlevel capabilities the backend uses, each with what needs it (an OpenGL adapter
+/// lacks some: llvmpipe's has no depth copies and failed at every readback).
+const NEEDED_DOWNLEVEL: [(wgpu::DownlevelFlags, &str, &str); 3] = [
+    (
+        wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES,
+        "DEPTH_TEXTURE_AND_BUFFER_COPIES",
+        "copying the depth buffer to a buffer: reading the target back and the exact blending \
+         path",
+    ),
+    (
+        wgpu::DownlevelFlags::COMPUTE_SHADERS,
+        "COMPUTE_SHADERS",
+        "the exact blending path",
+    ),
+    (
+        wgpu::DownlevelFlags::VERTEX_STORAGE,
+        "VERTEX_STORAGE",
+        "the vertex shader reads the draw's vertices from a storage buffer",
+    ),
+];
+
+/// The first downlevel capability the backend needs that `flags` lacks: its name and what
+/// needs it.
+fn missing_downlevel(flags: wgpu::DownlevelFlags) -> Option<(&'static str, &'static str)> {
+    NEEDED_DOWNLEVEL
+        .iter()
+        .find(|(flag, _, _)| !flags.contains(*flag))
+        .map(|&(_, name, why)| (name, why))
+}
+
 impl GpuContext {
     /// Opens the best adapter wgpu finds (honouring `WGPU_BACKEND` and the other wgpu
-    /// environment variables) and creates a device on it.
+    /// environment variables) and creates a device on it; an adapter without a downlevel
+    /// capability the backend uses is refused, naming it.
     pub fn new(options: ContextOptions) -> Result<Arc<GpuContext>, GpuError> {
         if wgpu::Instance::enabled_backend_features().is_empty() {
             return Err(GpuError::NoAdapter(
@@ -228,6 +261,13 @@ impl GpuContext {
         let adapter = request(false)
             .or_else(|_| request(true))
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        if let Some((flag, why)) = missing_downlevel(adapter.get_downlevel_capabilities().flags) {
+            return Err(GpuError::Unsupported(format!(
+                "the adapter {} ({:?}) lacks wgpu's downlevel flag {flag} ({why})",
+                info.name, info.backend
+            )));
+        }
         let wanted = wgpu::Features::CLIP_DISTANCES;
         let features = adapter.features() & wanted;
         let (device, queue) = block_on(adapter.request_device(&wgpu::DeviceDescriptor {
@@ -239,12 +279,7 @@ impl GpuContext {
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| GpuError::RequestDevice(e.to_string()))?;
-        Ok(Arc::new(GpuContext::build(
-            adapter.get_info(),
-            device,
-            queue,
-            options,
-        )))
+        Ok(Arc::new(GpuContext::build(info, device, queue, options)))
     }
 
     /// Wraps an engine's device and queue, so points render into its textures and passes.
@@ -357,6 +392,7 @@ impl GpuContext {
             device,
             queue,
             summary,
+            device_type: info.device_type,
             limits,
             bind_group_layout,
             pipeline_layout,
@@ -387,6 +423,12 @@ impl GpuContext {
     /// What the context runs on.
     pub fn adapter(&self) -> &AdapterSummary {
         &self.summary
+    }
+
+    /// The most tile passes (tiles of 16x16 pixels x batches of 256 points) one draw through
+    /// the exact blending path may cost on this adapter; a draw beyond it is refused.
+    pub fn exact_work_limit(&self) -> u64 {
+        crate::exact::work_limit(self.device_type)
     }
 
     /// The device's limits.
@@ -495,5 +537,34 @@ impl GpuContext {
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::DeviceLost(e.to_string()))?;
         self.check()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The check reads the flag each part of the backend needs: an OpenGL adapter without
+    /// depth copies (llvmpipe's) is refused for that flag, not accepted to fail at readback.
+    #[test]
+    fn an_adapter_without_a_needed_downlevel_flag_is_named() {
+        let all = wgpu::DownlevelFlags::all();
+        assert_eq!(missing_downlevel(all), None);
+        assert_eq!(
+            missing_downlevel(wgpu::DownlevelCapabilities::default().flags),
+            None
+        );
+        for (flag, name, _) in NEEDED_DOWNLEVEL {
+            assert_eq!(missing_downlevel(all - flag).map(|m| m.0), Some(name));
+        }
+        let gl_llvmpipe = all - wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES;
+        assert_eq!(
+            missing_downlevel(gl_llvmpipe),
+            Some((
+                "DEPTH_TEXTURE_AND_BUFFER_COPIES",
+                "copying the depth buffer to a buffer: reading the target back and the exact \
+                 blending path"
+            ))
+        );
     }
 }

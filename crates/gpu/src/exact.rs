@@ -15,6 +15,9 @@
 //!   points in vertex order, and the buffers are copied back (depth through a full-screen pass
 //!   writing `frag_depth`, since a depth texture cannot be a copy destination).
 //! - Draws larger than one records buffer are split, in vertex order.
+//! - `cs_tiles` costs every tile of the target a pass over every batch of 256 points, whatever
+//!   the points cover: a draw whose tiles x batches exceed [`work_limit`] is refused before
+//!   any work with a one-line error naming the limit (never an unbounded wait).
 
 use std::sync::Arc;
 
@@ -47,6 +50,37 @@ fn fs(@builtin(position) pos: vec4f) -> @builtin(frag_depth) f32 {
     return clamp(DEPTH[u32(pos.y) * X.pitch + u32(pos.x)], 0.0, 1.0);
 }
 ";
+
+/// Points `cs_tiles` tests per batch: one per invocation of a tile.
+const BATCH: u64 = (TILE * TILE) as u64;
+
+/// The most tile passes (tiles of the target x batches of 256 points) one exact draw may cost
+/// on an adapter of type `device_type`. On a CPU adapter a pass costs about 60 us (lavapipe,
+/// Mesa 22.3, one EPYC Zen 4 core: 40,000 points on 640x480 took 12.9 s), so 2^18 passes take
+/// about 15 s there; GPUs run thousands of tiles at once (not measured here).
+pub(crate) fn work_limit(device_type: wgpu::DeviceType) -> u64 {
+    match device_type {
+        wgpu::DeviceType::Cpu => 1 << 18,
+        _ => 1 << 26,
+    }
+}
+
+/// Refuses a draw of `points` points on a `width` x `height` target whose exact path would
+/// cost more than `limit` tile passes ([`work_limit`]).
+fn check_work(limit: u64, points: u64, width: u32, height: u32) -> Result<(), GpuError> {
+    let tiles = u64::from(width.div_ceil(TILE)) * u64::from(height.div_ceil(TILE));
+    let batches = points.div_ceil(BATCH);
+    if tiles * batches > limit {
+        return Err(GpuError::Unsupported(format!(
+            "{points} points blended with fractional factors on a {width}x{height} target \
+             need {tiles} tiles x {batches} batches of {BATCH} points = {} passes of the exact \
+             blending path, over its limit of {limit} on this adapter; render \
+             with --backend cpu, or draw fewer points or a smaller target",
+            tiles * batches
+        )));
+    }
+    Ok(())
+}
 
 /// True when the exact path can hold a `width` x `height` target: its colour and depth
 /// buffers fit a storage binding of the device.
@@ -238,6 +272,8 @@ pub(crate) fn draw(
     let fvf = draw.fvf;
     let ctx = Arc::clone(renderer.context());
     let (width, height) = (target.desc.width, target.desc.height);
+    let points = (vertices.len() / fvf.stride().max(1)) as u64;
+    check_work(ctx.exact_work_limit(), points, width, height)?;
     let ex = match exact {
         Some(e) => e,
         None => exact.insert(ctx.scoped(|| ExactTarget::new(&ctx, width, height))?),
@@ -348,4 +384,29 @@ pub(crate) fn draw(
         drop(res);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tiles x batches against the limit: 640x480 is 40 x 30 tiles; 256 points are one batch,
+    /// 257 two.
+    #[test]
+    fn work_is_tiles_times_batches_of_256_points() {
+        assert!(check_work(1200, 256, 640, 480).is_ok());
+        assert!(check_work(1200, 0, 640, 480).is_ok());
+        let e = check_work(2399, 257, 640, 480).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "not supported by the GPU backend: 257 points blended with fractional factors on a \
+             640x480 target need 1200 tiles x 2 batches of 256 points = 2400 passes of the \
+             exact blending path, over its limit of 2399 on this adapter; render with \
+             --backend cpu, or draw fewer points or a smaller target"
+        );
+        // Partial tiles count whole.
+        assert!(check_work(4, 1, 17, 17).is_ok());
+        assert!(check_work(3, 1, 17, 17).is_err());
+        assert_eq!(work_limit(wgpu::DeviceType::Cpu), 1 << 18);
+    }
 }

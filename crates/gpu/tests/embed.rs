@@ -381,3 +381,46 @@ fn a_target_is_read_back_within_the_adapters_buffer_size() {
          1050624 bytes, above the adapter's max_buffer_size of 1048576"
     );
 }
+
+/// The exact blending path walks every tile of the target for every batch of 256 points: a
+/// draw beyond the adapter's limit is refused before any work, in one line naming the limit
+/// (400,000 points took over 120 s on lavapipe), and the device stays usable.
+#[test]
+fn an_exact_draw_beyond_the_work_limit_is_refused_before_the_work() {
+    use pointillist_core::Device;
+    use pointillist_gpu::GpuBackend;
+    let Some(ctx) = gpu_context() else {
+        return;
+    };
+    let (w, h) = (1024u32, 512u32); // 64 x 32 tiles
+    let tiles = 64 * 32;
+    let limit = ctx.exact_work_limit();
+    let points = limit / tiles * 256 + 1; // one batch over the limit
+    let mut device = Device::new(GpuBackend::with_context(ctx), DeviceDesc::new(w, h)).unwrap();
+    device.set_render_state(RenderState::ALPHABLENDENABLE, true);
+    device.set_render_state(RenderState::SRCBLEND, Blend::SrcAlpha);
+    device.set_render_state(RenderState::DESTBLEND, Blend::InvSrcAlpha);
+    let vertices: Vec<XyzRhwPsizeDiffuse> = (0..points)
+        .map(|k| XyzRhwPsizeDiffuse {
+            position: [(k % 256 * 4) as f32, (k / 256 % 128 * 4) as f32, 0.5, 1.0],
+            psize: 2.0,
+            diffuse: 0x80FF_0000,
+        })
+        .collect();
+    let e = device.draw_vertices(&vertices).unwrap_err().to_string();
+    let batches = limit / tiles + 1;
+    assert!(
+        e.contains(&format!(
+            "{points} points blended with fractional factors on a 1024x512 target need {tiles} \
+             tiles x {batches} batches of 256 points = {} passes of the exact blending path, \
+             over its limit of {limit} on this adapter",
+            tiles * batches
+        )),
+        "{e}"
+    );
+    assert!(!e.contains('\n'));
+    // Within the limit the same device draws: half-transparent red over the black clear.
+    device.draw_vertices(&vertices[..256]).unwrap();
+    let target = device.read_target().unwrap();
+    assert_eq!(target.color[0] >> 16 & 0xFF, 0x80);
+}

@@ -335,7 +335,7 @@ pub fn write_png_atomic(
     height: u32,
     rgba: &[u8],
 ) -> Result<(), ImageError> {
-    output::Destination::check(path, &[])?.write_png(width, height, rgba)
+    output::Destination::check(path, &[])?.write_png(width, height, rgba, png::Compression::Fast)
 }
 
 #[cfg(test)]

@@ -206,9 +206,15 @@ impl Destination {
 
     /// Writes `width` x `height` RGBA8 pixels as a PNG file (crate::png::write_png_rgba8),
     /// atomically.
-    pub fn write_png(&self, width: u32, height: u32, rgba: &[u8]) -> Result<(), ImageError> {
+    pub fn write_png(
+        &self,
+        width: u32,
+        height: u32,
+        rgba: &[u8],
+        compression: crate::png::Compression,
+    ) -> Result<(), ImageError> {
         let mut file = self.create()?;
-        crate::png::write_png_rgba8(&mut file, width, height, rgba).map_err(|e| {
+        crate::png::write_png_rgba8(&mut file, width, height, rgba, compression).map_err(|e| {
             ImageError::File {
                 path: self.given.clone(),
                 source: Box::new(e),

@@ -105,6 +105,7 @@ pub fn animate(
         output: out,
         format: None,
         frames,
+        compression: pointillist_image::png::Compression::Fast,
     };
     let mut session = Session::default();
     let result =
