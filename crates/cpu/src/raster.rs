@@ -982,35 +982,48 @@ fn bands_of((y0, y1): (i32, i32)) -> std::ops::Range<usize> {
 }
 
 /// Runs the per-point stage on vertices `range` once, keeping `P` per point, and bins them
-/// into `chunk` (emptied first, its capacity reused).
+/// into `chunk` (emptied first, its capacity reused) until the bins hold `cap` entries: returns
+/// the first vertex not binned (`range.end` when all are).
 fn bin<P: Binned>(
     chunk: &mut Chunk<P>,
     ctx: &DrawContext,
     range: std::ops::Range<u32>,
     bands: usize,
-) {
+    cap: usize,
+) -> u32 {
     // Room for an even spread plus a quarter, so that uniform scenes never grow a band.
-    let room = range.len() / bands + range.len() / (4 * bands) + 16;
+    let room = (range.len() / bands + range.len() / (4 * bands) + 16).min(cap / bands + 1);
     chunk.bands.resize_with(bands, Vec::new);
     for band in &mut chunk.bands {
         band.clear();
         band.reserve(room);
     }
     let out = &mut chunk.bands;
+    let (mut entries, mut stop) = (0, range.end);
     ctx.squares
         .for_each(&ctx.points, ctx.vertices, range, |index, p| {
+            if index >= stop {
+                return;
+            }
             if let Some(c) = P::new(ctx, p, index) {
                 for n in bands_of(c.rows()) {
                     out[n].push(c);
                 }
+                entries += bands_of(c.rows()).len();
+                if entries >= cap {
+                    stop = index + 1;
+                }
             }
         });
+    stop
 }
 
-/// The parallel plan of the module contract with bins of `P`, in passes: each pass bins the
-/// next vertices, as many as keep the bins within `scratch` bytes (see [`chunk_points`]), and
-/// fills every band with them before the next pass bins. Each band still applies its points
-/// in vertex order, so the pixels are those of one pass.
+/// The parallel plan of the module contract with bins of `P`, in passes whose bins stay within
+/// `scratch` bytes: a pass bins chunks of the next vertices in parallel, each chunk stopping
+/// when its bins hold its share, then fills every band with the chunks up to the first that
+/// stopped; the next pass starts at the vertex where that one stopped, with chunks of the size
+/// that fitted. Each band still applies its points in vertex order, so the pixels are those of
+/// one pass (a draw whose bins fit, the usual case, is one pass).
 #[allow(clippy::too_many_arguments)]
 fn draw_binned<B: Blender, P: Binned>(
     ctx: &DrawContext,
@@ -1025,17 +1038,34 @@ fn draw_binned<B: Blender, P: Binned>(
     let width = target.width as usize;
     let bands = (target.height as usize).div_ceil(BAND_ROWS);
     let per_pass = threads * 4;
-    let chunk = chunk_points::<P>(ctx, bands, count, per_pass, scratch);
-    let pass = chunk as usize * per_pass;
-    for start in (0..count).step_by(pass) {
-        let end = (start as usize + pass).min(count as usize) as u32;
-        let firsts: Vec<u32> = (start..end).step_by(chunk as usize).collect();
+    // A chunk's bins: at most `room * bands` reserved, and each band grown to at most twice
+    // its entries, which stop within one point (at most `bands` entries) past `cap`.
+    let share = scratch / per_pass / size_of::<P>().max(1);
+    let cap = (share / 3).saturating_sub(bands).max(1);
+    let mut chunk = (count as usize).div_ceil(per_pass).max(1024) as u32;
+    let mut start = 0;
+    while start < count {
+        let firsts: Vec<u32> = (start..count)
+            .step_by(chunk as usize)
+            .take(per_pass)
+            .collect();
         chunks.resize_with(firsts.len(), Chunk::default);
+        let mut stops = vec![0; firsts.len()];
+        let end = |first: u32| first.saturating_add(chunk).min(count);
         chunks
             .par_iter_mut()
             .zip(&firsts)
-            .for_each(|(c, &first)| bin(c, ctx, first..(first + chunk).min(end), bands));
-        let chunks = &*chunks;
+            .zip(&mut stops)
+            .for_each(|((c, &first), stop)| *stop = bin(c, ctx, first..end(first), bands, cap));
+        let used = match firsts.iter().zip(&stops).position(|(&f, &s)| s < end(f)) {
+            Some(short) => {
+                chunk = (stops[short] - firsts[short]).max(1);
+                short + 1
+            }
+            None => firsts.len(),
+        };
+        start = stops[used - 1];
+        let chunks = &chunks[..used];
         let clear = clear.take();
         target
             .color
@@ -1062,36 +1092,6 @@ fn draw_binned<B: Blender, P: Binned>(
                 }
             });
     }
-}
-
-/// The vertices each of a pass's `chunks` bins: an even share of the draw's `count`, at least
-/// 1024, but never more than keep a chunk's bins (what [`bin`] reserves, and a band's vector
-/// grown to twice its points) within its share of `scratch`, for points that each touch the
-/// most bands this draw's size clamp allows (SPEC 2.3; rectangles lie inside the viewport).
-fn chunk_points<P>(
-    ctx: &DrawContext,
-    bands: usize,
-    count: u32,
-    chunks: usize,
-    scratch: usize,
-) -> u32 {
-    let vp = ctx.points.viewport_rect();
-    let mut rows = (vp.y1 - vp.y0).max(1) as usize;
-    let (_, hi) = ctx.points.size_bounds();
-    if ctx.points.is_single_pixel() {
-        rows = 1;
-    } else if hi < rows as f32 {
-        rows = hi.max(0.0) as usize + 2; // a square of size s covers at most s + 1 rows
-    }
-    let most_bands = (rows.div_ceil(BAND_ROWS) + 1).min(bands);
-    let per_point = size_of::<P>() * (2 * most_bands + 2);
-    let share = (scratch / chunks).saturating_sub(16 * bands * size_of::<P>());
-    let fit = (share / per_point).max(1);
-    (count as usize)
-        .div_ceil(chunks)
-        .max(1024)
-        .min(fit)
-        .min(u32::MAX as usize) as u32
 }
 
 /// Frees the bins of `P` after a draw when they hold more than [`RETAINED_BIN_BYTES`] and
