@@ -72,7 +72,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
         bar.finish_and_clear();
     }
     let summary = result?;
-    println!(
+    crate::report::outln!(
         "wrote {} ({} frame{} of {}x{} at {} fps, {} particles at the end)",
         crate::report::printable(&args.output.display().to_string()),
         summary.frames,

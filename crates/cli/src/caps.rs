@@ -15,14 +15,11 @@ pub fn run(args: &CapsArgs) -> Result<(), String> {
     if args.backend == BackendKind::Gpu {
         let ctx = backend::gpu_context()?;
         let limits = ctx.limits();
-        print!(
-            "{}",
-            gpu_report(
-                ctx.adapter(),
-                limits.max_texture_dimension_2d,
-                limits.max_storage_buffer_binding_size
-            )
-        );
+        print_text(&gpu_report(
+            ctx.adapter(),
+            limits.max_texture_dimension_2d,
+            limits.max_storage_buffer_binding_size,
+        ));
     }
     let (source, caps) = match (&args.scene, &args.profile) {
         (Some(path), _) => {
@@ -39,8 +36,13 @@ pub fn run(args: &CapsArgs) -> Result<(), String> {
         BackendKind::Cpu => "cpu",
         BackendKind::Gpu => "gpu",
     };
-    print!("{}", report(name, &source, &caps));
+    print_text(&report(name, &source, &caps));
     Ok(())
+}
+
+/// Prints `text`, whose lines each end with a line feed, on standard output.
+fn print_text(text: &str) {
+    crate::report::outln!("{}", text.strip_suffix('\n').unwrap_or(text));
 }
 
 /// What the GPU backend runs on and which caps it honours.

@@ -40,7 +40,7 @@ pub fn run_export(args: &ExportCallsArgs) -> Result<(), String> {
     {
         let bytes = export_one(scene, args.frame)?;
         write_atomic(&args.output, &bytes)?;
-        println!("wrote {} ({} bytes)", args.output.display(), bytes.len());
+        crate::report::outln!("wrote {} ({} bytes)", args.output.display(), bytes.len());
         return Ok(());
     }
     let cases = find_cases(&args.scenes)?;
@@ -53,7 +53,7 @@ pub fn run_export(args: &ExportCallsArgs) -> Result<(), String> {
         list.push_str(&format!("{}.calls\n", case.name));
     }
     write_atomic(&args.output.join("list.txt"), list.as_bytes())?;
-    println!(
+    crate::report::outln!(
         "wrote {} call streams and list.txt to {}",
         cases.len(),
         args.output.display()
@@ -80,18 +80,18 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
     let summary = match conform(&opts) {
         Ok(summary) => summary,
         Err(e) => {
-            eprintln!("error: {}", e.lines().next().unwrap_or(""));
+            crate::report::errln!("error: {}", e.lines().next().unwrap_or(""));
             return ExitCode::from(KIT_FAILED);
         }
     };
     for w in &summary.warnings {
-        eprintln!("warning: {w}");
+        crate::report::errln!("warning: {w}");
     }
     for (case, why) in &summary.unexpected {
-        eprintln!("{case}: {why}");
+        crate::report::errln!("{case}: {why}");
     }
     let [m, d, e] = summary.counts;
-    println!(
+    crate::report::outln!(
         "{} cases: {m} match, {d} differ, {e} errors; {} unexpected; report: {}",
         summary.cases,
         summary.unexpected.len(),

@@ -5,8 +5,11 @@
 //! The handler runs on its own thread: it kills the child processes registered here (ffmpeg),
 //! removes every output not yet committed ([`pointillist_image::output::discard_pending`], which
 //! also refuses later commits), says so on standard error and ends the process without running
-//! exit handlers, so that no library's clean-up races the threads still drawing.
+//! exit handlers, so that no library's clean-up races the threads still drawing. A standard
+//! stream that can no longer be written (a closed pipe) ends the process the same way, silently
+//! ([`end`], called by [`crate::report`]).
 
+use std::io::Write;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -29,17 +32,34 @@ pub fn install() -> Result<(), String> {
 static ENDING: AtomicBool = AtomicBool::new(false);
 
 fn handle() {
+    let written = stop();
+    let _ = writeln!(
+        std::io::stderr(),
+        "{}",
+        if written == 0 {
+            "interrupted: no output written"
+        } else {
+            "interrupted after the output was written"
+        }
+    );
+    exit_now(INTERRUPTED);
+}
+
+/// Ends the process as a signal does, silently, with exit status `status`: for a standard
+/// stream that can no longer be written (a closed pipe), where going on would only fail later.
+pub fn end(status: i32) -> ! {
+    stop();
+    exit_now(status)
+}
+
+/// Kills the registered children and removes every output not yet committed; returns how many
+/// were committed.
+fn stop() -> usize {
     ENDING.store(true, Ordering::SeqCst);
     for pid in children().drain(..) {
         kill(pid);
     }
-    let written = pointillist_image::output::discard_pending();
-    if written == 0 {
-        eprintln!("interrupted: no output written");
-    } else {
-        eprintln!("interrupted after the output was written");
-    }
-    exit_now();
+    pointillist_image::output::discard_pending()
 }
 
 /// Kills a child process at once and reaps it, so that it writes nothing more.
@@ -66,15 +86,15 @@ fn kill(_pid: u32) {}
 /// runs while other threads are still drawing.
 #[cfg(unix)]
 #[allow(unsafe_code)]
-fn exit_now() -> ! {
+fn exit_now(status: i32) -> ! {
     // SAFETY: _exit(2) takes an integer, never returns and touches no memory of this process.
-    unsafe { libc::_exit(INTERRUPTED) }
+    unsafe { libc::_exit(status) }
 }
 
 /// Ends the process.
 #[cfg(not(unix))]
-fn exit_now() -> ! {
-    std::process::exit(INTERRUPTED)
+fn exit_now(status: i32) -> ! {
+    std::process::exit(status)
 }
 
 /// A child process killed by the handler while this guard lives.

@@ -505,14 +505,14 @@ fn main() -> ExitCode {
                     ExitCode::SUCCESS
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-                    eprintln!(
+                    report::errln!(
                         "error: no command given: use 'pointillist render SCENE -o OUT.png' or \
                          'pointillist caps'; see 'pointillist --help'"
                     );
                     ExitCode::from(2)
                 }
                 _ => {
-                    eprintln!("{}", report::printable(&one_line(&err)));
+                    report::errln!("{}", report::printable(&one_line(&err)));
                     ExitCode::from(2)
                 }
             };

@@ -54,7 +54,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         ),
         None => format!("{draws} draw{}", if draws == 1 { "" } else { "s" }),
     };
-    println!(
+    crate::report::outln!(
         "wrote {} ({}x{}, {what})",
         crate::report::printable(&args.output.display().to_string()),
         width,

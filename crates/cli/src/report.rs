@@ -3,6 +3,60 @@
 //! message written as escapes, so that no input can rewrite the terminal
 //! (docs/RELIABILITY.md).
 
+use std::fmt;
+use std::io::{self, Write};
+
+/// Prints a line on standard output with [`out`], as `println!` does, without its panic.
+macro_rules! outln {
+    ($($arg:tt)*) => { $crate::report::out(format_args!($($arg)*)) };
+}
+
+/// Prints a line on standard error with [`err`], as `eprintln!` does, without its panic.
+macro_rules! errln {
+    ($($arg:tt)*) => { $crate::report::err(format_args!($($arg)*)) };
+}
+
+pub(crate) use {errln, outln};
+
+/// Writes `line` and a line feed on standard output. When it cannot be written the process
+/// ends as [`crate::interrupt::end`] says: a closed pipe (`pointillist bench | head -3`) ends
+/// it quietly with status 141, as SIGPIPE ends other tools; any other failure says so on
+/// standard error and ends it with status 1.
+pub fn out(line: fmt::Arguments) {
+    if let Err(e) = write_line(&mut io::stdout().lock(), line) {
+        if e.kind() != io::ErrorKind::BrokenPipe {
+            let _ = write_line(
+                &mut io::stderr().lock(),
+                format_args!("error: cannot write to standard output: {e}"),
+            );
+        }
+        crate::interrupt::end(exit_status(&e));
+    }
+}
+
+/// Writes `line` and a line feed on standard error; when it cannot be written the process
+/// ends as for [`out`], silently.
+pub fn err(line: fmt::Arguments) {
+    if let Err(e) = write_line(&mut io::stderr().lock(), line) {
+        crate::interrupt::end(exit_status(&e));
+    }
+}
+
+fn write_line(w: &mut impl Write, line: fmt::Arguments) -> io::Result<()> {
+    w.write_fmt(line)?;
+    w.write_all(b"\n")?;
+    w.flush()
+}
+
+/// 141 (128 + SIGPIPE) for a closed pipe, as shells report a tool that SIGPIPE ended; 1 else.
+fn exit_status(e: &io::Error) -> i32 {
+    if e.kind() == io::ErrorKind::BrokenPipe {
+        141
+    } else {
+        1
+    }
+}
+
 /// `text` with every control character written as its Rust escape (`\r`, `\u{1b}`): the
 /// scene crate's rule ([`pointillist_scene::printable`]).
 pub fn printable(text: &str) -> String {
@@ -11,7 +65,7 @@ pub fn printable(text: &str) -> String {
 
 /// Prints `warning: TEXT` on standard error.
 pub fn warning(text: &str) {
-    eprintln!("warning: {}", printable(text));
+    errln!("warning: {}", printable(text));
 }
 
 /// Prints `error: TEXT` on standard error, a message of several lines joined with "; ".
@@ -21,7 +75,7 @@ pub fn error(text: &str) {
         .map(str::trim)
         .filter(|l| !l.is_empty())
         .collect();
-    eprintln!("error: {}", printable(&lines.join("; ")));
+    errln!("error: {}", printable(&lines.join("; ")));
 }
 
 #[cfg(test)]

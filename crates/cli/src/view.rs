@@ -340,7 +340,7 @@ fn run_on<B: Backend>(
     if let Some(e) = app.error {
         return Err(e);
     }
-    println!(
+    crate::report::outln!(
         "{} frames, {:.1} ms per frame on the {} backend, {} particles",
         app.frames,
         app.frame_ms,
@@ -370,7 +370,7 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         ),
         None => {
             let (kind, line) = backend::automatic();
-            eprintln!("view: {}", crate::report::printable(&line));
+            crate::report::errln!("view: {}", crate::report::printable(&line));
             match kind {
                 BackendKind::Cpu => (cpu()?, "cpu"),
                 BackendKind::Gpu => match backend::create(BackendKind::Gpu)

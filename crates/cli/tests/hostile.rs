@@ -471,3 +471,55 @@ fn apng_frame_delays_are_exact_up_to_1000_fps() {
         }
     }
 }
+
+/// A pipe whose reading end is already closed, for a child's standard stream.
+fn closed_pipe() -> std::io::PipeWriter {
+    let (reader, writer) = std::io::pipe().expect("a pipe");
+    drop(reader);
+    writer
+}
+
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_the_run_quietly_with_status_141() {
+    use std::os::unix::process::ExitStatusExt;
+    // `pointillist caps | head -0`: standard output is closed before the first line.
+    let o = command()
+        .arg("caps")
+        .stdout(closed_pipe())
+        .output()
+        .expect("runs");
+    assert_eq!(o.status.code(), Some(141), "{}", stderr(&o));
+    assert!(stderr(&o).is_empty(), "nothing said: {}", stderr(&o));
+
+    // A render whose line on standard output cannot be written: the output, committed before,
+    // is whole; the run ends with 141, not a panic.
+    let dir = TempDir::new("closed-pipe");
+    let scene = dir.write("scene.toml", SCENE);
+    let out = dir.path("out.png");
+    let o = command()
+        .args(["render", path_arg(&scene), "-o", path_arg(&out)])
+        .stdout(closed_pipe())
+        .output()
+        .expect("runs");
+    assert_eq!(o.status.code(), Some(141), "{}", stderr(&o));
+    let file = fs::File::open(&out).expect("the output was committed");
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut pixels).expect("a whole PNG");
+
+    // An error line that cannot be written on a closed standard error: 141, not a panic (101)
+    // or an abort, and no output.
+    let bad = dir.write("bad.toml", "format = 1\n[target]\nwidth = 0\n");
+    let out = dir.path("bad.png");
+    let o = command()
+        .args(["render", path_arg(&bad), "-o", path_arg(&out)])
+        .stderr(closed_pipe())
+        .output()
+        .expect("runs");
+    assert_eq!(o.status.code(), Some(141));
+    assert_eq!(o.status.signal(), None);
+    assert!(!out.exists());
+}
