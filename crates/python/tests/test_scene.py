@@ -2,6 +2,7 @@
 message."""
 
 import _thread
+import signal
 import threading
 
 import numpy as np
@@ -91,6 +92,9 @@ def test_animate_errors_carry_the_cli_message_and_write_nothing(cli, tmp_path, c
 
 def test_animate_stops_on_ctrl_c_and_writes_nothing(tmp_path):
     out = tmp_path / "long.png"
+    # Ctrl-C as Python delivers it with its own handler, whatever a test runner or the shell
+    # that started it set (interrupt_main does nothing when SIGINT is ignored).
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, _thread.interrupt_main)
     timer.start()
     try:
@@ -98,4 +102,5 @@ def test_animate_stops_on_ctrl_c_and_writes_nothing(tmp_path):
             pointillist.animate(SCENES / "snow.toml", out, frames=100_000)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     assert list(tmp_path.iterdir()) == []
