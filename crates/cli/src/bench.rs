@@ -40,7 +40,9 @@ widest the CPU has).
 --end-to-end times what a user waits for instead: each workload is written as a scene file
 (its vertices in a raw `file =` buffer) and `pointillist render SCENE -o OUT.png` is run as a
 new process --frames times, alternating with an empty scene of the same size; the medians and
-their difference are printed, beside llvmpipe's frame with --peer llvmpipe.";
+their difference are printed, beside llvmpipe's frame with --peer llvmpipe. For snow, the
+storm is written as a scene (120 frames at 60 fps from its steady state) and `pointillist
+animate SCENE -o OUT.png` (an APNG) is timed, alternating with the same for one frame.";
 
 /// Arguments of `pointillist bench`.
 #[derive(Debug, Args)]
@@ -99,8 +101,8 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         return Err("--frames must be at least 1".into());
     }
     if args.end_to_end {
-        if snow || args.naive || args.fixed_function_blending {
-            return Err("--end-to-end times w1..w4 only, without --naive \
+        if args.naive || args.fixed_function_blending {
+            return Err("--end-to-end times whole commands, without --naive \
                         or --fixed-function-blending"
                 .into());
         }
@@ -110,6 +112,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             runs: args.frames,
             llvmpipe,
             backend: args.backend,
+            storm: snow.then(|| args.points.unwrap_or(SNOW_FLAKES)),
         });
     }
     let gpu = match args.backend {
@@ -117,7 +120,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             return Err("--fixed-function-blending needs --backend gpu".into());
         }
         BackendKind::Cpu => {
-            println!(
+            crate::report::outln!(
                 "cpu: {} threads, {} spans",
                 rayon::current_num_threads(),
                 pointillist_cpu::lanes()
@@ -135,7 +138,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                 gpu_context()?
             };
             let a = ctx.adapter();
-            println!(
+            crate::report::outln!(
                 "adapter: {} ({}, {}, {}); blending: {}",
                 a.name,
                 a.backend,
@@ -162,7 +165,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             None => time_pointillist(w, frames).map_err(|e| e.to_string()),
             Some(ctx) => time_gpu(ctx, w, frames),
         };
-        run_bench(&options, ours, |line| println!("{line}"))?;
+        run_bench(&options, ours, |line| crate::report::outln!("{line}"))?;
     }
     if snow {
         snow_storm(args.points.unwrap_or(SNOW_FLAKES), args.frames, gpu)?;
@@ -196,7 +199,7 @@ fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Res
     let texture = Arc::new(presets::soft_disc_texture(32));
     let config = presets::snow_storm_system(flakes, Some(texture), 1);
     let mut system = ParticleSystem::new(config).map_err(|e| e.to_string())?;
-    eprintln!(
+    crate::report::errln!(
         "snow: warming the storm up to its steady state ({} s of simulation)...",
         presets::SNOW_STORM_WARMUP
     );
@@ -208,7 +211,7 @@ fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Res
         Ok(())
     });
     let step = median(&step);
-    println!(
+    crate::report::outln!(
         "snow {live} flakes: simulate one 1/60 s step {:>10}  {:8.1} M particles/s",
         ms(step),
         live as f64 / step.as_secs_f64() / 1e6
@@ -229,7 +232,7 @@ fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Res
             ("gpu", frame)
         }
     };
-    println!(
+    crate::report::outln!(
         "snow {live} flakes 1920x1080: simulate + draw, {name:<16} {:>10}  {:8.1} frames/s  {:8.1} M particles/s",
         ms(frame),
         1.0 / frame.as_secs_f64(),
