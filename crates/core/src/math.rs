@@ -73,6 +73,17 @@ impl std::fmt::Display for LookAtError {
 
 impl std::error::Error for LookAtError {}
 
+/// SPEC 3.1: a subnormal value read as zero of the same sign, as GPU vertex stages read
+/// subnormal inputs; every other value (zero, normal, infinite, NaN) unchanged.
+#[inline]
+pub fn flush_subnormal(v: f32) -> f32 {
+    if v.is_subnormal() {
+        0.0f32.copysign(v)
+    } else {
+        v
+    }
+}
+
 impl Mat4 {
     /// The identity, the default of every D3DTS_* transform.
     pub const IDENTITY: Mat4 = Mat4([
@@ -89,6 +100,12 @@ impl Mat4 {
             *row = rhs.transform(self.0[r]);
         }
         Mat4(out)
+    }
+
+    /// The matrix with every subnormal entry read as zero of its sign ([`flush_subnormal`],
+    /// SPEC 3.1).
+    pub fn flush_subnormals(&self) -> Mat4 {
+        Mat4(self.0.map(|row| row.map(flush_subnormal)))
     }
 
     /// `v * self` for a row vector `v`.

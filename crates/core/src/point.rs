@@ -267,7 +267,8 @@ impl PointSetup {
                 c: rf(RenderState::POINTSCALE_C),
                 viewport_height: vp.height as f32,
             });
-        let world_view = state.world.mul(&state.view);
+        // SPEC 3.1: the matrices a transformed vertex goes through, subnormal entries flushed.
+        let world_view = state.world.mul(&state.view).flush_subnormals();
         let view_projection = state.view.mul(&state.projection);
         let clip_from_world_inverse = view_projection.inverse();
         // With CLIPPLANESCALEDPOINTS the planes are carried into clip space (SPEC 3.3); a view
@@ -301,7 +302,7 @@ impl PointSetup {
             pretransformed,
             world: state.world,
             world_view,
-            projection: state.projection,
+            projection: state.projection.flush_subnormals(),
             viewport: vp,
             viewport_rect: PixelRect {
                 x0: vp.x as i32,
@@ -459,7 +460,9 @@ impl PointSetup {
     #[inline]
     pub fn project(&self, pos: [f32; 4]) -> Option<Projection> {
         let vp = &self.viewport;
-        let eye = self.world_view.transform(pos);
+        let eye = self
+            .world_view
+            .transform(pos.map(crate::math::flush_subnormal));
         let c = self.projection.transform(eye);
         if !c.iter().all(|v| v.is_finite()) || c[3] <= 0.0 {
             return None;

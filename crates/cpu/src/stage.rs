@@ -176,6 +176,9 @@ impl Projector {
     /// and bit `i` set where vertex `i` is kept.
     #[inline(always)]
     fn project4(&self, [world_view, projection]: &Matrices4, position: [F4; 4]) -> ([F4; 4], u32) {
+        // SPEC 3.1: subnormal coordinates count as zero.
+        let position = position
+            .map(|c| F4::from_lanes(c.lanes().map(pointillist_core::math::flush_subnormal)));
         let eye = Self::transform4(world_view, position);
         let [c0, c1, c2, c3] = Self::transform4(projection, eye);
         let zero = F4::splat(0.0);
@@ -442,6 +445,14 @@ impl Twin {
             } else {
                 // `PointSetup::project`: clip w positive and finite, the depth inside
                 // `0..=w` with clipping, a finite screen position.
+                // SPEC 3.1: subnormal coordinates count as zero (`v * 0` keeps the sign).
+                let tiny = |v| {
+                    l.and(
+                        l.cmp(Cmp::Less, v, l.splat(f32::MIN_POSITIVE)),
+                        l.cmp(Cmp::Greater, v, l.splat(-f32::MIN_POSITIVE)),
+                    )
+                };
+                let position = position.map(|v| l.select_f(tiny(v), l.mul(v, zero), v));
                 let eye = transform!(&p.world_view, position);
                 let [c0, c1, c2, c3] = transform!(&p.projection, eye);
                 keep = l.and(

@@ -104,6 +104,15 @@ fn wordf(i: u32) -> f32 {
     return bitcast<f32>(VERTS[i]);
 }
 
+// SPEC 3.1: a subnormal read as zero of its sign (core::math::flush_subnormal).
+fn flush_subnormal(v: f32) -> f32 {
+    let bits = bitcast<u32>(v);
+    if (bits & 0x7f800000u) == 0u {
+        return bitcast<f32>(bits & 0x80000000u);
+    }
+    return v;
+}
+
 // Neither NaN nor infinite (SPEC 3.1).
 fn finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
@@ -445,7 +454,10 @@ fn point_stage(index: u32) -> Point {
         p.size = final_size(si, 0.0);
         w = 1.0 / pos.w;
     } else {
-        eye = transform(pos, U.world_view[0], U.world_view[1], U.world_view[2], U.world_view[3]);
+        // SPEC 3.1: subnormal coordinates count as zero, on every GPU (the uniforms' matrices
+        // come flushed from core::point).
+        let q = vec4f(flush_subnormal(pos.x), flush_subnormal(pos.y), flush_subnormal(pos.z), flush_subnormal(pos.w));
+        eye = transform(q, U.world_view[0], U.world_view[1], U.world_view[2], U.world_view[3]);
         let c = transform(eye, U.projection[0], U.projection[1], U.projection[2], U.projection[3]);
         if !finite4(c) || c.w <= 0.0 {
             return dropped(); // SPEC 3.1

@@ -50,3 +50,34 @@ cases!("3-clipping":
     vertex_position_clip_under_perspective_kept,
     wholly_outside_point_is_dropped,
 );
+
+/// SPEC 3.1: a transformed vertex's subnormal coordinates count as zero. An XYZW point with
+/// w = 1e-45 through a WORLD whose last row scales w by 3.4e38 has w = 0 and is dropped, on
+/// every backend (GPU vertex stages flush the subnormal; the CPU once computed w = 4.8e-7 and
+/// drew the point at a depth of 2.8 million); with w = 1e-37, a normal float, it is drawn.
+#[test]
+fn subnormal_coordinates_count_as_zero() {
+    use crate::common::*;
+    use pointillist_core::TransformType;
+    use pointillist_core::fvf::Fvf;
+    use pointillist_core::math::Mat4;
+    use pointillist_core::states::RenderState;
+
+    for (w, visible) in [(1e-45f32, false), (-1e-45, false), (1e-37, true)] {
+        let mut d = dev(32, 24);
+        d.set_render_state(RenderState::CLIPPING, false);
+        d.set_render_state(RenderState::POINTSIZE, 3.0f32);
+        let mut world = Mat4::IDENTITY;
+        world.0[3] = [0.0, 0.0, 0.0, 3.4028235e38];
+        d.set_transform(TransformType::World, world);
+        let fvf = Fvf(Fvf::XYZW.0 | Fvf::DIFFUSE.0);
+        draw(&mut d, fvf, &[f(0.0), f(0.0), f(2.638), f(w), WHITE]);
+        let t = target(&mut d);
+        assert_eq!(!drawn(&t, BLACK).is_empty(), visible, "w = {w:e}");
+        assert!(
+            t.depth
+                .iter()
+                .all(|&z| z == 1.0 || (visible && z.is_finite()))
+        );
+    }
+}
