@@ -66,6 +66,7 @@ fn subnormal_coordinates_count_as_zero() {
     for (w, visible) in [(1e-45f32, false), (-1e-45, false), (1e-37, true)] {
         let mut d = dev(32, 24);
         d.set_render_state(RenderState::CLIPPING, false);
+        d.set_render_state(RenderState::ZFUNC, 8u32); // ALWAYS: any depth passes
         d.set_render_state(RenderState::POINTSIZE, 3.0f32);
         let mut world = Mat4::IDENTITY;
         world.0[3] = [0.0, 0.0, 0.0, 3.4028235e38];
