@@ -1375,13 +1375,7 @@ fn spec_9_fog_each_mode() {
 /// transparent black for some of them (448 pixels of that scene differed by 255).
 #[test]
 fn spec_5_2_mip_levels_under_fractional_blending() {
-    let colours = [
-        0xFFFF_0000u32,
-        0xFF00_FF00,
-        0xFF00_00FF,
-        0xFFFF_FF00,
-        0xFFFF_00FF,
-    ];
+    let colours = crate::common::MIP_LEVEL_COLOURS;
     let levels = colours
         .iter()
         .enumerate()

@@ -17,6 +17,16 @@ pub const BLACK: u32 = 0xFF00_0000;
 /// Opaque white, the default diffuse colour.
 pub const WHITE: u32 = 0xFFFF_FFFF;
 
+/// One opaque colour per mip level of a 16x16 texture (16x16 red, 8x8 green, 4x4 blue, 2x2
+/// yellow, 1x1 magenta), so an image shows which level was sampled.
+pub const MIP_LEVEL_COLOURS: [u32; 5] = [
+    0xFFFF_0000,
+    0xFF00_FF00,
+    0xFF00_00FF,
+    0xFFFF_FF00,
+    0xFFFF_00FF,
+];
+
 /// D3DFVF_XYZRHW | D3DFVF_DIFFUSE.
 pub const RHW_D: Fvf = Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0);
 /// D3DFVF_XYZ.

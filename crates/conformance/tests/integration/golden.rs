@@ -190,13 +190,7 @@ fn dds_a8r8g8b8(levels: &[(u32, u32, Vec<u32>)]) -> Vec<u8> {
 /// colour so a render shows which level was sampled: 16x16 red, 8x8 green, 4x4 blue, 2x2
 /// yellow, 1x1 magenta (all opaque). Generated levels would all be red.
 fn mip_levels_dds() -> Vec<u8> {
-    let colours = [
-        0xFFFF_0000u32,
-        0xFF00_FF00,
-        0xFF00_00FF,
-        0xFFFF_FF00,
-        0xFFFF_00FF,
-    ];
+    let colours = crate::common::MIP_LEVEL_COLOURS;
     let levels: Vec<(u32, u32, Vec<u32>)> = colours
         .iter()
         .enumerate()

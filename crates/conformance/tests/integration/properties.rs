@@ -192,6 +192,16 @@ fn any_f32() -> impl Strategy<Value = f32> {
     ]
 }
 
+/// The size states (SPEC 2), in the order of the generated `states` arrays.
+const SIZE_STATES: [Rs; 6] = [
+    Rs::POINTSIZE,
+    Rs::POINTSIZE_MIN,
+    Rs::POINTSIZE_MAX,
+    Rs::POINTSCALE_A,
+    Rs::POINTSCALE_B,
+    Rs::POINTSCALE_C,
+];
+
 const FVFS: [Fvf; 7] = [
     Fvf::XYZ,
     Fvf(Fvf::XYZ.0 | Fvf::PSIZE.0),
@@ -262,15 +272,7 @@ proptest! {
         let caps = Caps::profile(Caps::PROFILES[c.profile]).unwrap();
         let mut d = pointillist_testkit::device(DeviceDesc { caps, ..DeviceDesc::new(32, 24) })
             .unwrap();
-        let size_states = [
-            Rs::POINTSIZE,
-            Rs::POINTSIZE_MIN,
-            Rs::POINTSIZE_MAX,
-            Rs::POINTSCALE_A,
-            Rs::POINTSCALE_B,
-            Rs::POINTSCALE_C,
-        ];
-        for (s, v) in size_states.iter().zip(c.states) {
+        for (s, v) in SIZE_STATES.iter().zip(c.states) {
             d.set_render_state(*s, v);
             prop_assert_eq!(d.render_state(*s), v.to_bits());
         }
@@ -461,15 +463,7 @@ proptest! {
             d.set_render_state(Rs::ALPHAREF, r);
             d.set_render_state(Rs::ALPHAFUNC, 7u32); // GREATEREQUAL
         }
-        let size_states = [
-            Rs::POINTSIZE,
-            Rs::POINTSIZE_MIN,
-            Rs::POINTSIZE_MAX,
-            Rs::POINTSCALE_A,
-            Rs::POINTSCALE_B,
-            Rs::POINTSCALE_C,
-        ];
-        for (s, v) in size_states.iter().zip(m.states) {
+        for (s, v) in SIZE_STATES.iter().zip(m.states) {
             d.set_render_state(*s, v);
         }
         d.set_render_state(Rs::POINTSCALEENABLE, m.scale);
