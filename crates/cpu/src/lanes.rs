@@ -149,12 +149,19 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     /// result (`v * 255` is within 255/512 of `0..=255`, under the half step): the products
     /// and lerps of unpacked bytes the span fills quantize.
     fn round_unit(self, v: Self::F) -> Self::U;
-    /// [`Lanes::round_unit`] as f32 (the bytes are exact).
-    fn round_unit_f(self, v: Self::F) -> Self::F;
     /// D3DCOLORs from byte lanes (blue, green, red, alpha).
     fn pack(self, c: [Self::U; 4]) -> Self::U;
+    /// SPEC 1's packing of shaded channels (blue, green, red, alpha) within
+    /// [`Lanes::round_unit`]'s domain into D3DCOLORs.
+    #[inline(always)]
+    fn quantize(self, shaded: [Self::F; 4]) -> Self::U {
+        self.pack(channels!(|c| self.round_unit(shaded[c])))
+    }
     /// The per-byte saturating sum (SPEC 5.5's ONE, ONE, ADD).
     fn adds_u8(self, a: Self::U, b: Self::U) -> Self::U;
+    /// SPEC 5.5's SRCALPHA, INVSRCALPHA, ADD of the D3DCOLORs `src` onto `dst`, on every
+    /// channel: [`source_alpha_pixel`] lane by lane.
+    fn source_alpha(self, src: Self::U, dst: Self::U) -> Self::U;
     /// SPEC 5.6: `(new & mask) | (old & !mask)`.
     fn write_masked(self, mask: u32, new: Self::U, old: Self::U) -> Self::U;
 
@@ -170,6 +177,24 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     fn select(self, m: Self::M, a: Self::U, b: Self::U) -> Self::U;
     /// `if m { a } else { b }` lane by lane.
     fn select_f(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F;
+}
+
+/// SPEC 5.5's SRCALPHA, INVSRCALPHA, ADD of the D3DCOLOR `src` onto `dst`, channel by channel
+/// in integers: `round((s * a + d * (255 - a)) / 255)` of the bytes, `a` the source alpha.
+///
+/// The reference's float arithmetic rounds to the same byte for every one of the 2^24 inputs
+/// of a channel (the exact quotient is never a half, and the float error stays far below
+/// the distance to one; a test checks all of them), and the integers take a third of the
+/// vector operations.
+#[inline(always)]
+pub(crate) fn source_alpha_pixel(src: u32, dst: u32) -> u32 {
+    let a = src >> 24;
+    let channel = |shift: u32| {
+        let (s, d) = ((src >> shift) & 0xFF, (dst >> shift) & 0xFF);
+        let t = s * a + d * (255 - a) + 128;
+        ((t + (t >> 8)) >> 8) << shift
+    };
+    channel(0) | channel(8) | channel(16) | channel(24)
 }
 
 /// The environment variable that chooses a narrower [`Level`] than the widest the CPU has
@@ -366,10 +391,6 @@ impl Lanes for Portable {
         v.map(|x| u32::from(f32_to_unorm8(x)))
     }
     #[inline(always)]
-    fn round_unit_f(self, v: [f32; 8]) -> [f32; 8] {
-        self.round_unit(v).map(|t| t as f32)
-    }
-    #[inline(always)]
     fn pack(self, [b, g, r, a]: [[u32; 8]; 4]) -> [u32; 8] {
         std::array::from_fn(|i| b[i] | g[i] << 8 | r[i] << 16 | a[i] << 24)
     }
@@ -379,6 +400,10 @@ impl Lanes for Portable {
             let (x, y) = (a[i].to_le_bytes(), b[i].to_le_bytes());
             u32::from_le_bytes(std::array::from_fn(|k| x[k].saturating_add(y[k])))
         })
+    }
+    #[inline(always)]
+    fn source_alpha(self, src: [u32; 8], dst: [u32; 8]) -> [u32; 8] {
+        std::array::from_fn(|i| source_alpha_pixel(src[i], dst[i]))
     }
     #[inline(always)]
     fn write_masked(self, mask: u32, new: [u32; 8], old: [u32; 8]) -> [u32; 8] {
@@ -418,6 +443,21 @@ mod x86 {
     use super::Lanes;
     use pointillist_core::states::Cmp;
     use std::arch::x86_64::*;
+
+    /// Rows of at most this many D3DCOLORs [`Avx2`]'s `gather_u` reads from registers (a
+    /// 16x16 level's row with its margin takes three).
+    const REGISTER_GATHER_U: usize = 24;
+
+    /// `pshufb` indices that gather the bytes of four pixels, stored channel by channel (four
+    /// blues, four greens, ...), pixel by pixel.
+    const PIXEL_BYTES: [i64; 2] = [0x0D09_0501_0C08_0400, 0x0F0B_0703_0E0A_0602];
+
+    /// `pshufb` indices that copy each pixel's alpha word to its four channel words (the high
+    /// byte of each zeroed), for the first and the second pixel of a 64-bit half.
+    const ALPHA_WORDS: [i64; 2] = [
+        0x8006_8006_8006_8006_u64 as i64,
+        0x800E_800E_800E_800E_u64 as i64,
+    ];
 
     /// Eight lanes of AVX2; exists only where the CPU has AVX2.
     #[derive(Copy, Clone, Debug)]
@@ -513,6 +553,23 @@ mod x86 {
             assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
             unsafe {
                 let idx = _mm256_min_epu32(idx, _mm256_set1_epi32(row.len() as i32 - 1));
+                if row.len() <= REGISTER_GATHER_U {
+                    // `vpermd` reads the low three bits of each index: one permute per eight
+                    // entries, the right one chosen by the index's upper bits. Gathers are
+                    // several times slower on AMD cores.
+                    let mut out = _mm256_setzero_si256();
+                    for (k, chunk) in row.chunks(8).enumerate() {
+                        let entries = if chunk.len() == 8 {
+                            self.load_u(chunk)
+                        } else {
+                            self.load_u_part(chunk)
+                        };
+                        let part = _mm256_permutevar8x32_epi32(entries, idx);
+                        let here = _mm256_cmpgt_epi32(idx, _mm256_set1_epi32(8 * k as i32 - 1));
+                        out = _mm256_blendv_epi8(out, part, here);
+                    }
+                    return out;
+                }
                 _mm256_i32gather_epi32::<4>(row.as_ptr().cast(), idx)
             }
         }
@@ -607,17 +664,6 @@ mod x86 {
             }
         }
         #[inline(always)]
-        fn round_unit_f(self, v: __m256) -> __m256 {
-            unsafe {
-                // `round_unit` in floats: truncation, then one more where the fraction is at
-                // least a half.
-                let x = _mm256_mul_ps(v, _mm256_set1_ps(255.0));
-                let t = _mm256_round_ps::<{ _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC }>(x);
-                let up = _mm256_cmp_ps::<_CMP_GE_OQ>(_mm256_sub_ps(x, t), _mm256_set1_ps(0.5));
-                _mm256_add_ps(t, _mm256_and_ps(up, _mm256_set1_ps(1.0)))
-            }
-        }
-        #[inline(always)]
         fn pack(self, [b, g, r, a]: [__m256i; 4]) -> __m256i {
             // Every lane is a byte, so the shifted channels do not overlap.
             unsafe {
@@ -628,8 +674,65 @@ mod x86 {
             }
         }
         #[inline(always)]
+        fn quantize(self, [b, g, r, a]: [__m256; 4]) -> __m256i {
+            // `round_unit(v) = floor(255 v + 1/2) = (trunc(510 v) + 1) / 2` for `255 v > -1/2`:
+            // `510 v` is twice the rounded `255 v` exactly, and `floor((n + f + 1) / 2)` is
+            // `floor((n + 1) / 2)` for an integer `n` and `0 <= f < 1`. The halving and packing
+            // are done on 16-bit lanes, two channels a register.
+            unsafe {
+                let twice = _mm256_set1_ps(510.0);
+                let n = |v: __m256| _mm256_cvttps_epi32(_mm256_mul_ps(v, twice));
+                let one = _mm256_set1_epi16(1);
+                let half = |v: __m256i| _mm256_srli_epi16::<1>(_mm256_add_epi16(v, one));
+                // Per 128-bit lane: four blues, four greens, four reds, four alphas.
+                let bg = half(_mm256_packs_epi32(n(b), n(g)));
+                let ra = half(_mm256_packs_epi32(n(r), n(a)));
+                let planar = _mm256_packus_epi16(bg, ra);
+                let [w0, w1] = PIXEL_BYTES;
+                _mm256_shuffle_epi8(planar, _mm256_set_epi64x(w1, w0, w1, w0))
+            }
+        }
+        #[inline(always)]
         fn adds_u8(self, a: __m256i, b: __m256i) -> __m256i {
             unsafe { _mm256_adds_epu8(a, b) }
+        }
+        #[inline(always)]
+        fn source_alpha(self, src: __m256i, dst: __m256i) -> __m256i {
+            // Channels widened to 16 bits, two pixels per half of each 128-bit lane.
+            unsafe {
+                let zero = _mm256_setzero_si256();
+                let alpha = _mm256_set_epi64x(
+                    ALPHA_WORDS[1],
+                    ALPHA_WORDS[0],
+                    ALPHA_WORDS[1],
+                    ALPHA_WORDS[0],
+                );
+                let (s0, d0) = (
+                    _mm256_unpacklo_epi8(src, zero),
+                    _mm256_unpacklo_epi8(dst, zero),
+                );
+                let (s1, d1) = (
+                    _mm256_unpackhi_epi8(src, zero),
+                    _mm256_unpackhi_epi8(dst, zero),
+                );
+                let (a0, a1) = (
+                    _mm256_shuffle_epi8(s0, alpha),
+                    _mm256_shuffle_epi8(s1, alpha),
+                );
+                let (ff, half) = (_mm256_set1_epi16(0xFF), _mm256_set1_epi16(128));
+                // t = s * a + d * (255 - a) + 128, then (t + t / 256) / 256: at most 65,407.
+                let t0 = _mm256_add_epi16(
+                    _mm256_add_epi16(_mm256_mullo_epi16(s0, a0), half),
+                    _mm256_mullo_epi16(d0, _mm256_xor_si256(a0, ff)),
+                );
+                let t1 = _mm256_add_epi16(
+                    _mm256_add_epi16(_mm256_mullo_epi16(s1, a1), half),
+                    _mm256_mullo_epi16(d1, _mm256_xor_si256(a1, ff)),
+                );
+                let r0 = _mm256_srli_epi16::<8>(_mm256_add_epi16(t0, _mm256_srli_epi16::<8>(t0)));
+                let r1 = _mm256_srli_epi16::<8>(_mm256_add_epi16(t1, _mm256_srli_epi16::<8>(t1)));
+                _mm256_packus_epi16(r0, r1)
+            }
         }
         #[inline(always)]
         fn write_masked(self, mask: u32, new: __m256i, old: __m256i) -> __m256i {
@@ -891,15 +994,6 @@ mod x86 {
             }
         }
         #[inline(always)]
-        fn round_unit_f(self, v: __m512) -> __m512 {
-            unsafe {
-                // `round_unit`, then the floor in floats instead of a conversion.
-                let x = _mm512_mul_ps(v, _mm512_set1_ps(255.0));
-                let s = _mm512_add_round_ps::<DOWN>(x, _mm512_set1_ps(0.5));
-                _mm512_roundscale_ps::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(s)
-            }
-        }
-        #[inline(always)]
         fn pack(self, [b, g, r, a]: [__m512i; 4]) -> __m512i {
             // Every lane is a byte, so the shifted channels do not overlap.
             unsafe {
@@ -912,6 +1006,39 @@ mod x86 {
         #[inline(always)]
         fn adds_u8(self, a: __m512i, b: __m512i) -> __m512i {
             unsafe { _mm512_adds_epu8(a, b) }
+        }
+        #[inline(always)]
+        fn source_alpha(self, src: __m512i, dst: __m512i) -> __m512i {
+            // As the AVX2 level's, on four 128-bit lanes.
+            unsafe {
+                let zero = _mm512_setzero_si512();
+                let [w0, w1] = ALPHA_WORDS;
+                let alpha = _mm512_set_epi64(w1, w0, w1, w0, w1, w0, w1, w0);
+                let (s0, d0) = (
+                    _mm512_unpacklo_epi8(src, zero),
+                    _mm512_unpacklo_epi8(dst, zero),
+                );
+                let (s1, d1) = (
+                    _mm512_unpackhi_epi8(src, zero),
+                    _mm512_unpackhi_epi8(dst, zero),
+                );
+                let (a0, a1) = (
+                    _mm512_shuffle_epi8(s0, alpha),
+                    _mm512_shuffle_epi8(s1, alpha),
+                );
+                let (ff, half) = (_mm512_set1_epi16(0xFF), _mm512_set1_epi16(128));
+                let t0 = _mm512_add_epi16(
+                    _mm512_add_epi16(_mm512_mullo_epi16(s0, a0), half),
+                    _mm512_mullo_epi16(d0, _mm512_xor_si512(a0, ff)),
+                );
+                let t1 = _mm512_add_epi16(
+                    _mm512_add_epi16(_mm512_mullo_epi16(s1, a1), half),
+                    _mm512_mullo_epi16(d1, _mm512_xor_si512(a1, ff)),
+                );
+                let r0 = _mm512_srli_epi16::<8>(_mm512_add_epi16(t0, _mm512_srli_epi16::<8>(t0)));
+                let r1 = _mm512_srli_epi16::<8>(_mm512_add_epi16(t1, _mm512_srli_epi16::<8>(t1)));
+                _mm512_packus_epi16(r0, r1)
+            }
         }
         #[inline(always)]
         fn write_masked(self, mask: u32, new: __m512i, old: __m512i) -> __m512i {
@@ -1169,11 +1296,6 @@ mod tests {
                     u(l, l.round_unit(l.load(&near))),
                     p.round_unit(p.load(&near[r.clone()])),
                 );
-                same_f(
-                    "round_unit_f",
-                    f(l, l.round_unit_f(l.load(&near))),
-                    p.round_unit(p.load(&near[r.clone()])).map(|t| t as f32),
-                );
                 let q = [bu, l.load_u(&bytes[1..]), l.load_u(&bytes[..]), bu];
                 let pq = [
                     pbu,
@@ -1182,7 +1304,20 @@ mod tests {
                     pbu,
                 ];
                 same_u("pack", u(l, l.pack(q)), p.pack(pq));
+                // Four channels over the whole domain of `round_unit`.
+                let unit: [[f32; MAX_LANES]; 4] = [0, 1, 2, 3]
+                    .map(|c| std::array::from_fn(|i| rng_unit[(i + 5 * c) % MAX_LANES]));
+                same_u(
+                    "quantize",
+                    u(l, l.quantize(unit.map(|v| l.load(&v)))),
+                    p.quantize(unit.map(|v| p.load(&v[r.clone()]))),
+                );
                 same_u("adds_u8", u(l, l.adds_u8(pu, qu)), p.adds_u8(ppu, pqu));
+                same_u(
+                    "source_alpha",
+                    u(l, l.source_alpha(pu, qu)),
+                    p.source_alpha(ppu, pqu),
+                );
                 same_u(
                     "write_masked",
                     u(l, l.write_masked(mask, pu, qu)),
@@ -1228,7 +1363,69 @@ mod tests {
             let v = p.channel::<16>([byte << 16; 8]);
             assert_eq!(v, [unorm8_to_f32(byte as u8); 8]);
             assert_eq!(p.round_unit(v), [byte; 8]);
-            assert_eq!(p.round_unit_f(v), [byte as f32; 8]);
+        }
+    }
+
+    /// The integer source-alpha blend is core's float reference (SPEC 5.5) for every source
+    /// byte, source alpha and target byte: the colour channels carry `(s, a, d)`, the alpha
+    /// channel `(a, a, d)`.
+    #[test]
+    fn spec_5_5_source_alpha_in_integers_is_the_reference_for_every_input() {
+        use pointillist_core::pixel::{BlendSetup, blend};
+        use pointillist_core::states::{Blend, BlendOp};
+        let setup = BlendSetup {
+            src: Blend::SrcAlpha,
+            dst: Blend::InvSrcAlpha,
+            op: BlendOp::Add,
+            src_alpha: Blend::SrcAlpha,
+            dst_alpha: Blend::InvSrcAlpha,
+            op_alpha: BlendOp::Add,
+            factor: [0.0; 4],
+        };
+        for a in 0..=255u32 {
+            for s in 0..=255u32 {
+                let src = a << 24 | s << 16 | (255 - s) << 8 | s;
+                for d in 0..=255u32 {
+                    let dst = d << 24 | d << 16 | (d ^ 0x5A) << 8 | d;
+                    assert_eq!(source_alpha_pixel(src, dst), blend(&setup, src, dst));
+                }
+            }
+        }
+    }
+
+    /// Each level's [`Lanes::quantize`] of the floats around every half step and every step of
+    /// 1/255, and the ends of `round_unit`'s domain, against the reference's rounding.
+    fn quantize_rounds_like_the_reference<L: Lanes>(l: L) {
+        let mut values = vec![-UNIT_SLACK, -0.0, 0.0, 1.0 + UNIT_SLACK];
+        for k in 0..=510u32 {
+            let v = k as f32 / 510.0;
+            for ulps in -4..=4i32 {
+                values.push(f32::from_bits(v.to_bits().wrapping_add_signed(ulps)));
+            }
+        }
+        values.retain(|v| (-UNIT_SLACK..=1.0 + UNIT_SLACK).contains(v));
+        for chunk in values.chunks(L::N) {
+            let mut lanes = [0.0; MAX_LANES];
+            lanes[..chunk.len()].copy_from_slice(chunk);
+            let v = l.load(&lanes);
+            let got = u(l, l.quantize([v, l.splat(0.0), v, l.splat(1.0)]));
+            for (i, &x) in chunk.iter().enumerate() {
+                let byte = u32::from(f32_to_unorm8(x));
+                assert_eq!(got[i], 0xFF00_0000 | byte << 16 | byte, "{x:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn spec_1_every_level_quantizes_half_steps_like_the_reference() {
+        for level in Level::available() {
+            match level {
+                Level::Portable => quantize_rounds_like_the_reference(Portable),
+                #[cfg(target_arch = "x86_64")]
+                Level::Avx2(l) => quantize_rounds_like_the_reference(l),
+                #[cfg(target_arch = "x86_64")]
+                Level::Avx512(l) => quantize_rounds_like_the_reference(l),
+            }
         }
     }
 

@@ -40,7 +40,7 @@ use pointillist_core::texture::{
 };
 use rayon::prelude::*;
 
-use crate::lanes::{Lanes, Level as LanesLevel, MAX_LANES, channels};
+use crate::lanes::{Lanes, Level as LanesLevel, MAX_LANES, source_alpha_pixel};
 use crate::simd::{F4, P4};
 use crate::stage::{Square, SquareStage};
 
@@ -76,7 +76,7 @@ trait Blender: Sync {
     #[inline(always)]
     fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
         let (mut src, mut old) = ([0u32; MAX_LANES], [0u32; MAX_LANES]);
-        l.store_u(&mut src, quantize(l, shaded));
+        l.store_u(&mut src, l.quantize(shaded));
         l.store_u(&mut old, dst);
         for (s, &d) in src.iter_mut().zip(&old).take(L::N) {
             *s = self.blend(*s, d);
@@ -97,13 +97,6 @@ trait Blender: Sync {
     }
 }
 
-/// SPEC 1's packing of shaded channels (blue, green, red, alpha) within [`Lanes::round_unit`]'s
-/// domain into D3DCOLORs.
-#[inline(always)]
-fn quantize<L: Lanes>(l: L, shaded: [L::F; 4]) -> L::U {
-    l.pack(channels!(|c| l.round_unit(shaded[c])))
-}
-
 /// ALPHABLENDENABLE false: the source replaces the target.
 struct Replace;
 impl Blender for Replace {
@@ -114,7 +107,7 @@ impl Blender for Replace {
 
     #[inline(always)]
     fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], _dst: L::U) -> L::U {
-        quantize(l, shaded)
+        l.quantize(shaded)
     }
 }
 
@@ -134,7 +127,7 @@ impl Blender for Additive {
 
     #[inline(always)]
     fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
-        l.adds_u8(quantize(l, shaded), dst)
+        l.adds_u8(l.quantize(shaded), dst)
     }
 
     #[inline(always)]
@@ -158,10 +151,7 @@ struct SourceAlpha;
 impl Blender for SourceAlpha {
     #[inline(always)]
     fn blend(&self, src: u32, dst: u32) -> u32 {
-        let (s, d) = (F4::from_argb(src), F4::from_argb(dst));
-        let fs = s.alpha();
-        let fd = F4::splat(1.0).sub(fs);
-        s.mul(fs).add(d.mul(fd)).to_argb()
+        source_alpha_pixel(src, dst)
     }
 
     #[inline(always)]
@@ -193,15 +183,7 @@ impl Blender for SourceAlpha {
 
     #[inline(always)]
     fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
-        // The source quantized (SPEC 1) and unpacked again, without the packing between.
-        let unit = l.splat(1.0 / 255.0);
-        let s = channels!(|c| l.mul(l.round_unit_f(shaded[c]), unit));
-        let d = l.unpack(dst);
-        let fd = l.sub(l.splat(1.0), s[3]);
-        // `s * a + d * (1 - a)` of unpacked bytes stays within `round_unit`'s domain.
-        l.pack(channels!(
-            |c| l.round_unit(l.add(l.mul(s[c], s[3]), l.mul(d[c], fd)))
-        ))
+        l.source_alpha(l.quantize(shaded), dst)
     }
 }
 

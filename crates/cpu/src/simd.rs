@@ -154,12 +154,6 @@ impl F4 {
         imp::transpose(v.map(|f| f.0)).map(F4)
     }
 
-    /// The alpha lane in every lane.
-    #[inline(always)]
-    pub(crate) fn alpha(self) -> F4 {
-        F4(imp::alpha(self.0))
-    }
-
     /// The colour lanes of `self` with the alpha lane of `o`.
     #[inline(always)]
     pub(crate) fn with_alpha_of(self, o: F4) -> F4 {
@@ -332,11 +326,6 @@ mod scalar {
     #[inline(always)]
     pub(crate) fn mul(a: V, b: V) -> V {
         std::array::from_fn(|i| a[i] * b[i])
-    }
-
-    #[inline(always)]
-    pub(crate) fn alpha(a: V) -> V {
-        [a[3]; 4]
     }
 
     #[inline(always)]
@@ -540,12 +529,6 @@ mod sse2 {
     pub(crate) fn mul(a: V, b: V) -> V {
         // SAFETY: as in `from_argb`.
         unsafe { _mm_mul_ps(a, b) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn alpha(a: V) -> V {
-        // SAFETY: as in `from_argb`.
-        unsafe { _mm_shuffle_ps::<0xFF>(a, a) }
     }
 
     #[inline(always)]
@@ -987,8 +970,9 @@ mod tests {
                 assert_eq!(packed[i], fs.to_argb(), "quantize");
                 let fq = F4::from_argb(fs.to_argb());
                 same(quantized.pixel(i), fq, "quantize");
-                let fd = F4::splat(1.0).sub(fq.alpha());
-                let fbl = fq.mul(fq.alpha()).add(fa.mul(fd));
+                let alpha = F4::splat(lanes(fq)[3]);
+                let fd = F4::splat(1.0).sub(alpha);
+                let fbl = fq.mul(alpha).add(fa.mul(fd));
                 same(blended.pixel(i), fbl, "source_alpha");
                 assert_eq!(blended.to_argb()[i], fbl.to_argb(), "to_argb");
                 assert_eq!(add_pixels(a, b)[i], add_pixel(a[i], b[i]), "add_pixels");
@@ -1032,7 +1016,6 @@ mod tests {
                     F4::lerp(fa, fb, F4::splat(t)),
                     scalar::add(sa, scalar::mul(scalar::sub(sb, sa), scalar::splat(t))),
                 ),
-                (fa.alpha(), scalar::alpha(sa)),
                 (fa.with_alpha_of(fb), scalar::with_alpha_of(sa, sb)),
             ];
             for (k, (ours, twin)) in cases.into_iter().enumerate() {

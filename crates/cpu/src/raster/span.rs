@@ -76,10 +76,12 @@ impl PlanarLevel {
         }
     }
 
-    /// Plane `c` from entry `x` of row `y` to the end of the texels.
+    /// `len` entries of plane `c` from entry `x` of row `y` (into the padding past the last
+    /// plane where they run over it).
     #[inline(always)]
-    fn from(&self, c: usize, y: usize, x: usize) -> &[f32] {
-        &self.texels[c * self.plane + y * self.pitch + x..]
+    fn entries(&self, c: usize, y: usize, x: usize, len: usize) -> &[f32] {
+        let at = c * self.plane + y * self.pitch + x;
+        &self.texels[at..at + len]
     }
 }
 
@@ -116,12 +118,16 @@ pub(super) fn fill<B: Blender>(
     alpha: ModulateAlpha,
     texels: &PlanarLevel,
 ) -> bool {
+    // No alpha test, depth test or channel mask: each pixel is only the blend.
+    let px = &ctx.pixel;
+    let plain = px.alpha_test.is_none() && px.depth.is_none() && px.write_mask == u32::MAX;
     macro_rules! at {
         ($l:expr, $f:ident) => {
-            if linear {
-                $f::<_, B, true>($l, ctx, b, p, band, s, alpha, texels)
-            } else {
-                $f::<_, B, false>($l, ctx, b, p, band, s, alpha, texels)
+            match (linear, plain) {
+                (true, true) => $f::<_, B, true, true>($l, ctx, b, p, band, s, alpha, texels),
+                (true, false) => $f::<_, B, true, false>($l, ctx, b, p, band, s, alpha, texels),
+                (false, true) => $f::<_, B, false, true>($l, ctx, b, p, band, s, alpha, texels),
+                (false, false) => $f::<_, B, false, false>($l, ctx, b, p, band, s, alpha, texels),
             }
         };
     }
@@ -142,7 +148,7 @@ pub(super) fn fill<B: Blender>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(clippy::too_many_arguments)]
-fn fill_avx2<L: Lanes, B: Blender, const LINEAR: bool>(
+fn fill_avx2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     l: L,
     ctx: &DrawContext,
     b: &B,
@@ -152,14 +158,14 @@ fn fill_avx2<L: Lanes, B: Blender, const LINEAR: bool>(
     alpha: ModulateAlpha,
     texels: &PlanarLevel,
 ) -> bool {
-    fill_with::<L, B, LINEAR>(l, ctx, b, p, band, s, alpha, texels)
+    fill_with::<L, B, LINEAR, PLAIN>(l, ctx, b, p, band, s, alpha, texels)
 }
 
 /// [`fill_with`] compiled for AVX-512 F and BW.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512bw")]
 #[allow(clippy::too_many_arguments)]
-fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool>(
+fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     l: L,
     ctx: &DrawContext,
     b: &B,
@@ -169,7 +175,7 @@ fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool>(
     alpha: ModulateAlpha,
     texels: &PlanarLevel,
 ) -> bool {
-    fill_with::<L, B, LINEAR>(l, ctx, b, p, band, s, alpha, texels)
+    fill_with::<L, B, LINEAR, PLAIN>(l, ctx, b, p, band, s, alpha, texels)
 }
 
 /// The plane entries and weights of the `count` pixels from `first` along an axis of a sprite
@@ -242,7 +248,7 @@ fn axis<L: Lanes, const LINEAR: bool>(
 /// row to the next.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
+fn fill_with<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     l: L,
     ctx: &DrawContext,
     b: &B,
@@ -295,6 +301,8 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
         };
         let first = span * n;
         let width = (cols - first).min(n);
+        // A partial span whose row has N pixels from its first: loaded and stored whole.
+        let whole_window = pitch - (p.rect.x0 as usize + first) >= n;
         // The texel rows the previous pixel row read: `row` and `row + 1`, filtered.
         let zero = l.splat(0.0);
         let (mut top, mut bottom, mut tag) = ([zero; 4], [zero; 4], None);
@@ -329,15 +337,28 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool>(
             ];
             // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
             let at = origin + k * pitch + first;
-            let (c, z) = (
-                &mut band.color[at..at + width],
-                &mut band.depth[at..at + width],
-            );
+            // Sliced to a length the compiler knows where it can, so that the loads and stores
+            // need no checks of their own; the depths only when the test reads them.
+            let len = match width {
+                _ if width == n || whole_window => n,
+                _ => width,
+            };
+            let c = &mut band.color[at..at + len];
+            let z = match tests.depth {
+                Some(_) => &mut band.depth[at..at + len],
+                None => &mut [][..],
+            };
+            let span = Row {
+                color: c,
+                depth: z,
+                width,
+            };
             if width == n {
-                pixels::<L, B, false>(l, tests, b, shaded, p.z, c, z);
+                pixels::<L, B, WHOLE, PLAIN>(l, tests, b, shaded, p.z, span);
+            } else if whole_window {
+                pixels::<L, B, WINDOW, PLAIN>(l, tests, b, shaded, p.z, span);
             } else {
-                // The last, partial span.
-                pixels::<L, B, true>(l, tests, b, shaded, p.z, c, z);
+                pixels::<L, B, PART, PLAIN>(l, tests, b, shaded, p.z, span);
             }
         }
     }
@@ -367,8 +388,9 @@ fn filter<L: Lanes, const LINEAR: bool>(
     if columns.consecutive {
         let at = columns.first;
         return channels!(|c| {
-            let plane = texels.from(c, y, at);
-            let a = l.load(plane);
+            // One bounds check for the two loads.
+            let plane = texels.entries(c, y, at, L::N + 1);
+            let a = l.load(&plane[..L::N]);
             if LINEAR {
                 l.lerp(a, l.load(&plane[1..]), w)
             } else {
@@ -378,7 +400,7 @@ fn filter<L: Lanes, const LINEAR: bool>(
     }
     if texels.pitch <= L::REGISTER_GATHER {
         return channels!(|c| {
-            let row = &texels.from(c, y, 0)[..texels.pitch];
+            let row = texels.entries(c, y, 0, texels.pitch);
             let a = l.gather(row, i0);
             if LINEAR {
                 l.lerp(a, l.gather(row, i1), w)
@@ -397,36 +419,68 @@ fn filter<L: Lanes, const LINEAR: bool>(
     channels!(|c| l.lerp(a[c], b[c], w))
 }
 
+/// A span's pixels in a row of the band: their colours, their depths (empty without a depth
+/// test), and how many of them are the span's.
+struct Row<'a> {
+    color: &'a mut [u32],
+    depth: &'a mut [f32],
+    width: usize,
+}
+
+/// How [`pixels`] reaches a span's pixels: N of them.
+const WHOLE: u8 = 0;
+/// The first `width` of N pixels that the row holds: loaded and stored whole, the others
+/// written back unchanged (masked stores of 256 bits are slow on AMD cores).
+const WINDOW: u8 = 1;
+/// The first `width` pixels of a row with fewer than N left: masked loads and stores.
+const PART: u8 = 2;
+
 /// Tests, blend and mask (SPEC 5.3 to 5.6, as `write_pixel`) of the pixels `color` at depths
-/// `depth` whose shaded colour is `shaded`: N of them, or fewer (`PART`) in the first lanes.
+/// `depth` whose shaded colour is `shaded`, reached as `REACH` says.
 #[inline(always)]
-fn pixels<L: Lanes, B: Blender, const PART: bool>(
+fn pixels<L: Lanes, B: Blender, const REACH: u8, const PLAIN: bool>(
     l: L,
     tests: &PixelSetup,
     b: &B,
     shaded: [L::F; 4],
     z: f32,
-    color: &mut [u32],
-    depth: &mut [f32],
+    Row {
+        color,
+        depth,
+        width,
+    }: Row,
 ) {
-    let old = if PART {
+    let old = if REACH == PART {
         l.load_u_part(color)
     } else {
         l.load_u(color)
     };
     let stored = match tests.depth {
-        Some(_) if PART => Some(l.load_part(depth)),
+        Some(_) if REACH == PART => Some(l.load_part(depth)),
         Some(_) => Some(l.load(depth)),
         None => None,
     };
-    let (new, z) = span_pixels(l, tests, b, shaded, z, old, stored);
-    if PART {
+    let (mut new, mut z) = if PLAIN {
+        (b.blend_lanes(l, shaded, old), None)
+    } else {
+        span_pixels(l, tests, b, shaded, z, old, stored)
+    };
+    if REACH == WINDOW {
+        // The lanes past the span write back what they read: this band's rows are this
+        // thread's alone.
+        let inside = l.cmp_u(Cmp::Less, l.load_u(&LANE_INDEX), l.splat_u(width as u32));
+        new = l.select(inside, new, old);
+        z = z
+            .zip(stored)
+            .map(|(z, stored)| l.select_f(inside, z, stored));
+    }
+    if REACH == PART {
         l.store_u_part(color, new);
     } else {
         l.store_u(color, new);
     }
     match z {
-        Some(z) if PART => l.store_part(depth, z),
+        Some(z) if REACH == PART => l.store_part(depth, z),
         Some(z) => l.store(depth, z),
         None => {}
     }
