@@ -76,6 +76,26 @@ impl PlanarLevel {
         }
     }
 
+    /// [`MAX_LANES`] + 1 entries of each plane from entry `x` of row `y` (into the padding
+    /// past the last plane where they run over it), for one bounds check instead of four.
+    #[inline(always)]
+    fn consecutive(&self, y: usize, x: usize) -> [&[f32; MAX_LANES + 1]; 4] {
+        let at = y * self.pitch + x;
+        assert!(at + 3 * self.plane + MAX_LANES < self.texels.len());
+        channels!(|c| {
+            let start = c * self.plane + at;
+            // SAFETY: `start + MAX_LANES + 1 <= at + 3 * plane + MAX_LANES + 1`, within the
+            // texels by the assertion; an array of f32 has the alignment of f32.
+            unsafe {
+                &*self
+                    .texels
+                    .as_ptr()
+                    .add(start)
+                    .cast::<[f32; MAX_LANES + 1]>()
+            }
+        })
+    }
+
     /// `len` entries of plane `c` from entry `x` of row `y` (into the padding past the last
     /// plane where they run over it).
     #[inline(always)]
@@ -386,13 +406,11 @@ fn filter<L: Lanes, const LINEAR: bool>(
     let (i0, w) = (columns.entries, columns.weights);
     let i1 = l.add_u(i0, l.splat_u(1));
     if columns.consecutive {
-        let at = columns.first;
+        let planes = texels.consecutive(y, columns.first);
         return channels!(|c| {
-            // One bounds check for the two loads.
-            let plane = texels.entries(c, y, at, L::N + 1);
-            let a = l.load(&plane[..L::N]);
+            let a = l.load(&planes[c][..L::N]);
             if LINEAR {
-                l.lerp(a, l.load(&plane[1..]), w)
+                l.lerp(a, l.load(&planes[c][1..]), w)
             } else {
                 a
             }
