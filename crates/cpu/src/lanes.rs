@@ -157,11 +157,16 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     fn quantize(self, shaded: [Self::F; 4]) -> Self::U {
         self.pack(channels!(|c| self.round_unit(shaded[c])))
     }
+    /// The alpha bytes of D3DCOLORs.
+    fn alpha_bytes(self, px: Self::U) -> Self::U;
     /// The per-byte saturating sum (SPEC 5.5's ONE, ONE, ADD).
     fn adds_u8(self, a: Self::U, b: Self::U) -> Self::U;
     /// SPEC 5.5's SRCALPHA, INVSRCALPHA, ADD of the D3DCOLORs `src` onto `dst`, on every
     /// channel: [`source_alpha_pixel`] lane by lane.
     fn source_alpha(self, src: Self::U, dst: Self::U) -> Self::U;
+    /// SPEC 5.1's MODULATE of the D3DCOLORs `a` and `b`, quantized (SPEC 1), on every
+    /// channel: [`modulate_pixel`] lane by lane.
+    fn modulate(self, a: Self::U, b: Self::U) -> Self::U;
     /// SPEC 5.6: `(new & mask) | (old & !mask)`.
     fn write_masked(self, mask: u32, new: Self::U, old: Self::U) -> Self::U;
 
@@ -192,6 +197,21 @@ pub(crate) fn source_alpha_pixel(src: u32, dst: u32) -> u32 {
     let channel = |shift: u32| {
         let (s, d) = ((src >> shift) & 0xFF, (dst >> shift) & 0xFF);
         let t = s * a + d * (255 - a) + 128;
+        ((t + (t >> 8)) >> 8) << shift
+    };
+    channel(0) | channel(8) | channel(16) | channel(24)
+}
+
+/// SPEC 5.1's MODULATE of the D3DCOLORs `a` and `b`, quantized (SPEC 1), channel by channel
+/// in integers: `round(a * b / 255)` of the bytes.
+///
+/// The reference's float arithmetic (the product of the unpacked bytes, then SPEC 1's
+/// rounding) gives the same byte for every one of the 2^16 inputs of a channel (the exact
+/// quotient is never a half; a test checks all of them).
+#[inline(always)]
+pub(crate) fn modulate_pixel(a: u32, b: u32) -> u32 {
+    let channel = |shift: u32| {
+        let t = ((a >> shift) & 0xFF) * ((b >> shift) & 0xFF) + 128;
         ((t + (t >> 8)) >> 8) << shift
     };
     channel(0) | channel(8) | channel(16) | channel(24)
@@ -395,6 +415,10 @@ impl Lanes for Portable {
         std::array::from_fn(|i| b[i] | g[i] << 8 | r[i] << 16 | a[i] << 24)
     }
     #[inline(always)]
+    fn alpha_bytes(self, px: [u32; 8]) -> [u32; 8] {
+        px.map(|x| x >> 24)
+    }
+    #[inline(always)]
     fn adds_u8(self, a: [u32; 8], b: [u32; 8]) -> [u32; 8] {
         std::array::from_fn(|i| {
             let (x, y) = (a[i].to_le_bytes(), b[i].to_le_bytes());
@@ -404,6 +428,10 @@ impl Lanes for Portable {
     #[inline(always)]
     fn source_alpha(self, src: [u32; 8], dst: [u32; 8]) -> [u32; 8] {
         std::array::from_fn(|i| source_alpha_pixel(src[i], dst[i]))
+    }
+    #[inline(always)]
+    fn modulate(self, a: [u32; 8], b: [u32; 8]) -> [u32; 8] {
+        std::array::from_fn(|i| modulate_pixel(a[i], b[i]))
     }
     #[inline(always)]
     fn write_masked(self, mask: u32, new: [u32; 8], old: [u32; 8]) -> [u32; 8] {
@@ -693,6 +721,10 @@ mod x86 {
             }
         }
         #[inline(always)]
+        fn alpha_bytes(self, px: __m256i) -> __m256i {
+            unsafe { _mm256_srli_epi32::<24>(px) }
+        }
+        #[inline(always)]
         fn adds_u8(self, a: __m256i, b: __m256i) -> __m256i {
             unsafe { _mm256_adds_epu8(a, b) }
         }
@@ -732,6 +764,20 @@ mod x86 {
                 let r0 = _mm256_srli_epi16::<8>(_mm256_add_epi16(t0, _mm256_srli_epi16::<8>(t0)));
                 let r1 = _mm256_srli_epi16::<8>(_mm256_add_epi16(t1, _mm256_srli_epi16::<8>(t1)));
                 _mm256_packus_epi16(r0, r1)
+            }
+        }
+        #[inline(always)]
+        fn modulate(self, a: __m256i, b: __m256i) -> __m256i {
+            // Channels widened to 16 bits; `t = a * b + 128`, then `(t + t / 256) / 256`.
+            unsafe {
+                let (zero, half) = (_mm256_setzero_si256(), _mm256_set1_epi16(128));
+                let product = |x: __m256i, y: __m256i| {
+                    let t = _mm256_add_epi16(_mm256_mullo_epi16(x, y), half);
+                    _mm256_srli_epi16::<8>(_mm256_add_epi16(t, _mm256_srli_epi16::<8>(t)))
+                };
+                let low = product(_mm256_unpacklo_epi8(a, zero), _mm256_unpacklo_epi8(b, zero));
+                let high = product(_mm256_unpackhi_epi8(a, zero), _mm256_unpackhi_epi8(b, zero));
+                _mm256_packus_epi16(low, high)
             }
         }
         #[inline(always)]
@@ -902,6 +948,14 @@ mod x86 {
             assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
             unsafe {
                 let idx = _mm512_min_epu32(idx, _mm512_set1_epi32(row.len() as i32 - 1));
+                if row.len() <= 16 {
+                    return _mm512_permutexvar_epi32(idx, self.load_u_part(row));
+                }
+                if row.len() <= 32 {
+                    let (low, high) = row.split_at(16);
+                    let (low, high) = (self.load_u(low), self.load_u_part(high));
+                    return _mm512_permutex2var_epi32(low, idx, high);
+                }
                 _mm512_i32gather_epi32::<4>(idx, row.as_ptr().cast())
             }
         }
@@ -1004,6 +1058,10 @@ mod x86 {
             }
         }
         #[inline(always)]
+        fn alpha_bytes(self, px: __m512i) -> __m512i {
+            unsafe { _mm512_srli_epi32::<24>(px) }
+        }
+        #[inline(always)]
         fn adds_u8(self, a: __m512i, b: __m512i) -> __m512i {
             unsafe { _mm512_adds_epu8(a, b) }
         }
@@ -1038,6 +1096,20 @@ mod x86 {
                 let r0 = _mm512_srli_epi16::<8>(_mm512_add_epi16(t0, _mm512_srli_epi16::<8>(t0)));
                 let r1 = _mm512_srli_epi16::<8>(_mm512_add_epi16(t1, _mm512_srli_epi16::<8>(t1)));
                 _mm512_packus_epi16(r0, r1)
+            }
+        }
+        #[inline(always)]
+        fn modulate(self, a: __m512i, b: __m512i) -> __m512i {
+            // As the AVX2 level's, on four 128-bit lanes.
+            unsafe {
+                let (zero, half) = (_mm512_setzero_si512(), _mm512_set1_epi16(128));
+                let product = |x: __m512i, y: __m512i| {
+                    let t = _mm512_add_epi16(_mm512_mullo_epi16(x, y), half);
+                    _mm512_srli_epi16::<8>(_mm512_add_epi16(t, _mm512_srli_epi16::<8>(t)))
+                };
+                let low = product(_mm512_unpacklo_epi8(a, zero), _mm512_unpacklo_epi8(b, zero));
+                let high = product(_mm512_unpackhi_epi8(a, zero), _mm512_unpackhi_epi8(b, zero));
+                _mm512_packus_epi16(low, high)
             }
         }
         #[inline(always)]
@@ -1313,6 +1385,8 @@ mod tests {
                     p.quantize(unit.map(|v| p.load(&v[r.clone()]))),
                 );
                 same_u("adds_u8", u(l, l.adds_u8(pu, qu)), p.adds_u8(ppu, pqu));
+                same_u("modulate", u(l, l.modulate(pu, qu)), p.modulate(ppu, pqu));
+                same_u("alpha_bytes", u(l, l.alpha_bytes(pu)), p.alpha_bytes(ppu));
                 same_u(
                     "source_alpha",
                     u(l, l.source_alpha(pu, qu)),
@@ -1425,6 +1499,20 @@ mod tests {
                 Level::Avx2(l) => quantize_rounds_like_the_reference(l),
                 #[cfg(target_arch = "x86_64")]
                 Level::Avx512(l) => quantize_rounds_like_the_reference(l),
+            }
+        }
+    }
+
+    /// The integer MODULATE is core's float reference (SPEC 5.1, then SPEC 1's rounding) for
+    /// every pair of bytes.
+    #[test]
+    fn spec_5_1_modulate_in_integers_is_the_reference_for_every_input() {
+        for a in 0..=255u8 {
+            for b in 0..=255u8 {
+                let want = f32_to_unorm8(unorm8_to_f32(a) * unorm8_to_f32(b));
+                let (a, b) = (u32::from(a), u32::from(b));
+                let got = modulate_pixel(a << 24 | a << 8, b << 24 | b << 8);
+                assert_eq!(got, u32::from(want) * 0x0100_0100, "{a} * {b}");
             }
         }
     }

@@ -70,18 +70,16 @@ trait Blender: Sync {
         std::array::from_fn(|i| self.blend(src[i], dst[i]))
     }
 
-    /// [`Blender::blend`] of a span of N pixels over `dst`, the source being the shaded
-    /// channels (blue, green, red, alpha) before their quantization to 8 bits (SPEC 1), within
-    /// [`Lanes::round_unit`]'s domain. By default pixel by pixel.
+    /// [`Blender::blend`] of a span of N pixels `src` over `dst`. By default pixel by pixel.
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
-        let (mut src, mut old) = ([0u32; MAX_LANES], [0u32; MAX_LANES]);
-        l.store_u(&mut src, l.quantize(shaded));
+    fn blend_lanes<L: Lanes>(&self, l: L, src: L::U, dst: L::U) -> L::U {
+        let (mut new, mut old) = ([0u32; MAX_LANES], [0u32; MAX_LANES]);
+        l.store_u(&mut new, src);
         l.store_u(&mut old, dst);
-        for (s, &d) in src.iter_mut().zip(&old).take(L::N) {
+        for (s, &d) in new.iter_mut().zip(&old).take(L::N) {
             *s = self.blend(*s, d);
         }
-        l.load_u(&src)
+        l.load_u(&new)
     }
 
     /// Blends `src` into the pixels `r` (inside `band`) through the channel mask (SPEC 5.5,
@@ -106,8 +104,8 @@ impl Blender for Replace {
     }
 
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], _dst: L::U) -> L::U {
-        l.quantize(shaded)
+    fn blend_lanes<L: Lanes>(&self, _: L, src: L::U, _dst: L::U) -> L::U {
+        src
     }
 }
 
@@ -126,8 +124,8 @@ impl Blender for Additive {
     }
 
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
-        l.adds_u8(l.quantize(shaded), dst)
+    fn blend_lanes<L: Lanes>(&self, l: L, src: L::U, dst: L::U) -> L::U {
+        l.adds_u8(src, dst)
     }
 
     #[inline(always)]
@@ -182,8 +180,8 @@ impl Blender for SourceAlpha {
     }
 
     #[inline(always)]
-    fn blend_lanes<L: Lanes>(&self, l: L, shaded: [L::F; 4], dst: L::U) -> L::U {
-        l.source_alpha(l.quantize(shaded), dst)
+    fn blend_lanes<L: Lanes>(&self, l: L, src: L::U, dst: L::U) -> L::U {
+        l.source_alpha(src, dst)
     }
 }
 

@@ -43,8 +43,9 @@ pub(super) struct PlanarLevel {
     /// The four planes, then [`MAX_LANES`] + 1 entries so that a span's loads past the last
     /// row stay inside.
     texels: Vec<f32>,
-    /// The same texels packed (D3DCOLOR), one plane: gathered where rows are too long for
-    /// [`Lanes::REGISTER_GATHER`], one gather for four channels.
+    /// The same texels packed (D3DCOLOR), one plane, then [`MAX_LANES`] entries: what point
+    /// sampling reads, and linear filtering where rows are too long for
+    /// [`Lanes::REGISTER_GATHER`] (one gather for four channels).
     packed: Vec<u32>,
 }
 
@@ -54,7 +55,7 @@ impl PlanarLevel {
         let pitch = level.width as usize + 2;
         let plane = pitch * (level.height as usize + 2);
         let mut texels = vec![0.0; 4 * plane + MAX_LANES + 1];
-        let mut packed = vec![0; plane];
+        let mut packed = vec![0; plane + MAX_LANES];
         for y in 0..level.height as usize + 2 {
             for x in 0..pitch {
                 let texel = fetch(level, sampler, x as i64 - 1, y as i64 - 1);
@@ -305,6 +306,15 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     let d = unpack(p.diffuse);
     let m = [d[2], d[1], d[0], d[3]];
     let m = channels!(|c| l.splat(m[c]));
+    // Point sampling reads whole texels: the stage and SPEC 1's quantization are one integer
+    // product of the packed bytes ([`Lanes::modulate`]), the texel's alpha taken as 255 times
+    // the diffuse alpha, or the diffuse alpha as 255 times the texel's.
+    let (opaque, modulator) = match alpha {
+        ModulateAlpha::Texture => (false, p.diffuse | 0xFF00_0000),
+        ModulateAlpha::Modulate => (false, p.diffuse),
+        ModulateAlpha::Diffuse => (true, p.diffuse),
+    };
+    let modulator = l.splat_u(modulator);
     let tests = &ctx.pixel;
     let pitch = band.width;
     let origin = (rows.start - band.y0) as usize * pitch + p.rect.x0 as usize;
@@ -326,36 +336,43 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
         // The texel rows the previous pixel row read: `row` and `row + 1`, filtered.
         let zero = l.splat(0.0);
         let (mut top, mut bottom, mut tag) = ([zero; 4], [zero; 4], None);
+        let mut point = l.splat_u(0);
         for (k, (&row, &weight)) in y.iter().zip(fy.iter()).take(rows.len()).enumerate() {
             let row = row as usize;
             if tag != Some(row) {
-                top = if LINEAR && tag.is_some_and(|t| t + 1 == row) {
-                    bottom
-                } else {
-                    filter::<L, LINEAR>(l, texels, row, &columns)
-                };
                 if LINEAR {
-                    bottom = filter::<L, LINEAR>(l, texels, row + 1, &columns);
+                    top = if tag.is_some_and(|t| t + 1 == row) {
+                        bottom
+                    } else {
+                        filter(l, texels, row, &columns)
+                    };
+                    bottom = filter(l, texels, row + 1, &columns);
+                } else {
+                    point = texels_at(l, texels, row, &columns);
+                    if opaque {
+                        point = l.write_masked(0xFF00_0000, l.splat_u(u32::MAX), point);
+                    }
                 }
                 tag = Some(row);
             }
-            let texel = if LINEAR {
+            let src = if LINEAR {
                 let weight = l.splat(weight);
-                channels!(|c| l.lerp(top[c], bottom[c], weight))
+                let texel = channels!(|c| l.lerp(top[c], bottom[c], weight));
+                let shaded = [
+                    l.mul(texel[0], m[0]),
+                    l.mul(texel[1], m[1]),
+                    l.mul(texel[2], m[2]),
+                    match alpha {
+                        ModulateAlpha::Texture => texel[3],
+                        ModulateAlpha::Modulate => l.mul(texel[3], m[3]),
+                        ModulateAlpha::Diffuse => m[3],
+                    },
+                ];
+                // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
+                l.quantize(shaded)
             } else {
-                top
+                l.modulate(point, modulator)
             };
-            let shaded = [
-                l.mul(texel[0], m[0]),
-                l.mul(texel[1], m[1]),
-                l.mul(texel[2], m[2]),
-                match alpha {
-                    ModulateAlpha::Texture => texel[3],
-                    ModulateAlpha::Modulate => l.mul(texel[3], m[3]),
-                    ModulateAlpha::Diffuse => m[3],
-                },
-            ];
-            // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
             let at = origin + k * pitch + first;
             // Sliced to a length the compiler knows where it can, so that the loads and stores
             // need no checks of their own; the depths only when the test reads them.
@@ -374,11 +391,11 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
                 width,
             };
             if width == n {
-                pixels::<L, B, WHOLE, PLAIN>(l, tests, b, shaded, p.z, span);
+                pixels::<L, B, WHOLE, PLAIN>(l, tests, b, src, p.z, span);
             } else if whole_window {
-                pixels::<L, B, WINDOW, PLAIN>(l, tests, b, shaded, p.z, span);
+                pixels::<L, B, WINDOW, PLAIN>(l, tests, b, src, p.z, span);
             } else {
-                pixels::<L, B, PART, PLAIN>(l, tests, b, shaded, p.z, span);
+                pixels::<L, B, PART, PLAIN>(l, tests, b, src, p.z, span);
             }
         }
     }
@@ -395,46 +412,40 @@ struct Columns<L: Lanes> {
 }
 
 /// The horizontal lerps of plane row `y` at `columns` (the first half of SPEC 5.2's bilinear
-/// filter; the texel at the first entry when point sampling), channel by channel.
+/// filter), channel by channel.
 #[inline(always)]
-fn filter<L: Lanes, const LINEAR: bool>(
-    l: L,
-    texels: &PlanarLevel,
-    y: usize,
-    columns: &Columns<L>,
-) -> [L::F; 4] {
+fn filter<L: Lanes>(l: L, texels: &PlanarLevel, y: usize, columns: &Columns<L>) -> [L::F; 4] {
     let (i0, w) = (columns.entries, columns.weights);
     let i1 = l.add_u(i0, l.splat_u(1));
     if columns.consecutive {
         let planes = texels.consecutive(y, columns.first);
         return channels!(|c| {
             let a = l.load(&planes[c][..L::N]);
-            if LINEAR {
-                l.lerp(a, l.load(&planes[c][1..]), w)
-            } else {
-                a
-            }
+            l.lerp(a, l.load(&planes[c][1..]), w)
         });
     }
     if texels.pitch <= L::REGISTER_GATHER {
         return channels!(|c| {
             let row = texels.entries(c, y, 0, texels.pitch);
-            let a = l.gather(row, i0);
-            if LINEAR {
-                l.lerp(a, l.gather(row, i1), w)
-            } else {
-                a
-            }
+            l.lerp(l.gather(row, i0), l.gather(row, i1), w)
         });
     }
     // Rows too long to gather from registers: one gather of packed texels per side.
     let packed = &texels.packed[y * texels.pitch..][..texels.pitch];
     let a = l.unpack(l.gather_u(packed, i0));
-    if !LINEAR {
-        return a;
-    }
     let b = l.unpack(l.gather_u(packed, i1));
     channels!(|c| l.lerp(a[c], b[c], w))
+}
+
+/// The packed texels of plane row `y` at `columns` (SPEC 5.2's point sampling).
+#[inline(always)]
+fn texels_at<L: Lanes>(l: L, texels: &PlanarLevel, y: usize, columns: &Columns<L>) -> L::U {
+    let row = &texels.packed[y * texels.pitch..];
+    if columns.consecutive {
+        l.load_u(&row[columns.first..])
+    } else {
+        l.gather_u(&row[..texels.pitch], columns.entries)
+    }
 }
 
 /// A span's pixels in a row of the band: their colours, their depths (empty without a depth
@@ -454,13 +465,13 @@ const WINDOW: u8 = 1;
 const PART: u8 = 2;
 
 /// Tests, blend and mask (SPEC 5.3 to 5.6, as `write_pixel`) of the pixels `color` at depths
-/// `depth` whose shaded colour is `shaded`, reached as `REACH` says.
+/// `depth` whose quantized shaded colour is `src`, reached as `REACH` says.
 #[inline(always)]
 fn pixels<L: Lanes, B: Blender, const REACH: u8, const PLAIN: bool>(
     l: L,
     tests: &PixelSetup,
     b: &B,
-    shaded: [L::F; 4],
+    src: L::U,
     z: f32,
     Row {
         color,
@@ -479,9 +490,9 @@ fn pixels<L: Lanes, B: Blender, const REACH: u8, const PLAIN: bool>(
         None => None,
     };
     let (mut new, mut z) = if PLAIN {
-        (b.blend_lanes(l, shaded, old), None)
+        (b.blend_lanes(l, src, old), None)
     } else {
-        span_pixels(l, tests, b, shaded, z, old, stored)
+        span_pixels(l, tests, b, src, z, old, stored)
     };
     if REACH == WINDOW {
         // The lanes past the span write back what they read: this band's rows are this
@@ -511,14 +522,14 @@ fn span_pixels<L: Lanes, B: Blender>(
     l: L,
     tests: &PixelSetup,
     b: &B,
-    shaded: [L::F; 4],
+    src: L::U,
     z: f32,
     old: L::U,
     stored: Option<L::F>,
 ) -> (L::U, Option<L::F>) {
     let mut pass = None;
     if let Some((func, reference)) = tests.alpha_test {
-        let alpha = l.round_unit(shaded[3]);
+        let alpha = l.alpha_bytes(src);
         pass = Some(l.cmp_u(func, alpha, l.splat_u(u32::from(reference))));
     }
     let mut depth = None;
@@ -530,7 +541,7 @@ fn span_pixels<L: Lanes, B: Blender>(
         }
         pass = Some(passes);
     }
-    let mut new = b.blend_lanes(l, shaded, old);
+    let mut new = b.blend_lanes(l, src, old);
     if tests.write_mask != u32::MAX {
         new = l.write_masked(tests.write_mask, new, old);
     }
