@@ -23,6 +23,7 @@
 use std::sync::Mutex;
 
 use pointillist_core::color::argb_to_rgba8;
+use pointillist_core::device::MAX_TARGET_SIZE;
 use pointillist_core::draw::DrawSetup;
 use pointillist_core::pixel::{blend, write_masked};
 use pointillist_core::point::PointSetup;
@@ -44,6 +45,9 @@ const MIN_POINTS_A_IMAGE: usize = 1 << 17;
 /// The most bytes of count images beyond the first.
 const EXTRA_IMAGE_BYTES: usize = 256 << 20;
 
+/// 2^23: `2^23 + k` holds integer `k` in `0..2^23` in its low 23 bits.
+const MAGIC: f32 = 8_388_608.0;
+
 /// The index of a point the vectorised pass leaves to core's functions.
 const SLOW: u32 = u32::MAX;
 
@@ -62,10 +66,13 @@ pub(crate) fn render(plot: &Plot, points: &Points<'_>, out: &mut [u8]) -> Result
     let Some(table) = table(&setup, plot.clear, colour) else {
         return Ok(false);
     };
-    let (w, h) = (plot.width as usize, plot.height as usize);
-    let pixels = w * h;
-    if out.len() != pixels * 4 || u32::try_from(pixels).is_err() {
-        return Ok(false); // render_into's own check reports a wrong output
+    let sides = 1..=MAX_TARGET_SIZE;
+    if !(sides.contains(&plot.width) && sides.contains(&plot.height)) {
+        return Ok(false); // the device reports the target size
+    }
+    let pixels = plot.width as usize * plot.height as usize;
+    if out.len() != pixels * 4 {
+        return Ok(false); // so does write_rgba8 a wrong output
     }
     let n = points.count()?;
     let images = rayon::current_num_threads()
@@ -325,7 +332,12 @@ impl<'a> Pass<'a> {
             let (y0, y1) = ((y - half).ceil(), (y + half).ceil());
             let one =
                 x1 - x0 == 1.0 && y1 - y0 == 1.0 && c0 <= x0 && x0 < c1 && r0 <= y0 && y0 < r1;
-            let i = (y0 as u32).wrapping_mul(self.width).wrapping_add(x0 as u32);
+            // The indices of the clamped edges, which are integers in 0..2^23: the low bits of
+            // `2^23 + k` (a float conversion would saturate lane by lane, unvectorised).
+            let bits = |k: f32, lo: f32, hi: f32| (k.max(lo).min(hi) + MAGIC).to_bits() & 0x7F_FFFF;
+            let i = bits(y0, r0, r1)
+                .wrapping_mul(self.width)
+                .wrapping_add(bits(x0, c0, c1));
             *o = if one { i } else { SLOW };
         }
     }

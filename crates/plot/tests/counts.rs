@@ -179,3 +179,18 @@ fn nan_is_the_same_error_as_the_devices() {
         assert_eq!(device, expected);
     }
 }
+
+#[test]
+fn bad_targets_are_the_devices_errors() {
+    let x = [0.5f32];
+    let points = Points::new(Column::F32(&x), Column::F32(&x));
+    for (w, h) in [(0, 4), (4, 0), (16385, 1)] {
+        let plot = Plot::new(w, h);
+        let counted = plot.render(&points).unwrap_err();
+        assert_eq!(counted, on_device(&plot, &points).unwrap_err());
+        assert!(
+            counted.to_string().contains("outside 1..=16384"),
+            "{counted}"
+        );
+    }
+}
