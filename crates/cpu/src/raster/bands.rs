@@ -13,10 +13,10 @@ use pointillist_core::device::RenderTarget;
 use pointillist_core::point::PixelRect;
 use rayon::prelude::*;
 
-use super::binning::{Binned, Chunk, bin};
+use super::binning::{Binned, Chunk, bin, trim_bins};
 use super::blending::Blender;
 use super::fills::Scratch;
-use super::{Clear, DrawContext};
+use super::{Clear, DrawContext, DrawTarget};
 
 /// Target rows per band: small enough to spread work over threads, large enough that small
 /// sprites rarely straddle two bands.
@@ -49,18 +49,17 @@ pub(crate) fn clear(target: &mut RenderTarget, (color, depth): Clear) {
 /// when its bins hold its share, then fills every band with the chunks up to the first that
 /// stopped; the next pass starts at the vertex where that one stopped, with chunks of the size
 /// that fitted. Each band still applies its points in vertex order, so the pixels are those of
-/// one pass (a draw whose bins fit, the usual case, is one pass).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn draw_binned<B: Blender, P: Binned>(
-    ctx: &DrawContext,
-    b: &B,
-    target: &mut RenderTarget,
-    chunks: &mut Vec<Chunk<P>>,
-    mut clear: Option<Clear>,
-    count: u32,
-    threads: usize,
-    scratch: usize,
-) {
+/// one pass (a draw whose bins fit, the usual case, is one pass). Then trims the bins
+/// ([`trim_bins`]).
+pub(super) fn draw_binned<B: Blender, P: Binned>(ctx: &DrawContext, b: &B, out: DrawTarget) {
+    let DrawTarget {
+        target,
+        bins,
+        mut clear,
+    } = out;
+    let chunks = P::chunks(bins);
+    let (count, scratch) = (ctx.point_count(), ctx.scratch);
+    let threads = rayon::current_num_threads();
     let width = target.width as usize;
     let bands = (target.height as usize).div_ceil(BAND_ROWS);
     let per_pass = threads * 4;
@@ -118,6 +117,7 @@ pub(super) fn draw_binned<B: Blender, P: Binned>(
                 }
             });
     }
+    trim_bins(chunks);
 }
 
 /// The rows of `r` inside `band`.
@@ -228,7 +228,12 @@ mod tests {
                     .build()
                     .unwrap();
                 let mut bins = Bins::default();
-                pool.install(|| draw_context(&ctx, &mut target, &mut bins, None));
+                let out = DrawTarget {
+                    target: &mut target,
+                    bins: &mut bins,
+                    clear: None,
+                };
+                pool.install(|| draw_context(&ctx, out));
                 assert!(
                     bins.bytes() <= scratch,
                     "scene {scene}, {threads} threads: bins of {} bytes, above {scratch}",

@@ -58,20 +58,21 @@ pub(super) trait Binned: Copy + Send + Sync {
     }
 }
 
-/// Any point: its vertex index and rows; the fill runs the per-point stage again (it is
-/// pure, so it gives the same point).
+/// Any point, whatever its pixels need (per-pixel clip planes, the general cascade): its vertex
+/// index and rows; the fill runs the per-point stage again (it is pure, so it gives the same
+/// point).
 #[derive(Copy, Clone)]
-pub(super) struct Index {
+pub(super) struct AnyPoint {
     vertex: u32,
     rows: [u16; 2],
 }
 
-impl Binned for Index {
-    fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<Index>> {
-        &mut bins.index
+impl Binned for AnyPoint {
+    fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<AnyPoint>> {
+        &mut bins.any_point
     }
-    fn new(_: &DrawContext, p: &Square, vertex: u32) -> Option<Index> {
-        Some(Index {
+    fn new(_: &DrawContext, p: &Square, vertex: u32) -> Option<AnyPoint> {
+        Some(AnyPoint {
             vertex,
             rows: [p.rect.y0 as u16, p.rect.y1 as u16],
         })
@@ -105,7 +106,7 @@ impl Binned for Index {
 ///
 /// [`MAX_TARGET_SIZE`]: pointillist_core::device::MAX_TARGET_SIZE
 #[derive(Copy, Clone)]
-pub(super) struct Rect16([u16; 4]);
+struct Rect16([u16; 4]);
 
 impl Rect16 {
     #[inline]
@@ -257,7 +258,7 @@ impl<P> Default for Chunk<P> {
 /// memory instead of faulting in fresh pages (see [`trim_bins`] for how much stays).
 #[derive(Default)]
 pub(crate) struct Bins {
-    index: Vec<Chunk<Index>>,
+    any_point: Vec<Chunk<AnyPoint>>,
     solid: Vec<Chunk<Solid>>,
     sprite: Vec<Chunk<Sprite>>,
 }
@@ -274,7 +275,7 @@ impl Bins {
                 .sum::<usize>()
                 * size_of::<P>()
         }
-        of(&self.index) + of(&self.solid) + of(&self.sprite)
+        of(&self.any_point) + of(&self.solid) + of(&self.sprite)
     }
 }
 
@@ -285,11 +286,11 @@ impl std::fmt::Debug for Bins {
 }
 
 /// Bin capacity a backend keeps after any draw.
-pub(super) const RETAINED_BIN_BYTES: usize = 64 << 20;
+const RETAINED_BIN_BYTES: usize = 64 << 20;
 
 /// The bands of [`BAND_ROWS`] rows that rows `y0..y1` touch.
 #[inline]
-pub(super) fn bands_of((y0, y1): (i32, i32)) -> std::ops::Range<usize> {
+fn bands_of((y0, y1): (i32, i32)) -> std::ops::Range<usize> {
     y0 as usize / BAND_ROWS..(y1 as usize - 1) / BAND_ROWS + 1
 }
 

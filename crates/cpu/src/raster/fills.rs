@@ -25,7 +25,7 @@ use crate::simd::P4;
 
 /// Binned sprites this many columns wide or more fill through the wide spans ([`span`]);
 /// narrower ones through [`fill_narrow`] (measured: 2 and 3 columns are faster there).
-pub(super) const SPAN_MIN_COLUMNS: i32 = 4;
+const SPAN_MIN_COLUMNS: i32 = 4;
 
 /// Per-point working memory, reused from point to point so no point allocates.
 #[derive(Default)]
@@ -63,7 +63,7 @@ pub(super) fn fill<B: Blender>(
 }
 
 /// One point whose every pixel has the same colour: shade once, then depth and blend per pixel.
-pub(super) fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band) {
+fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band) {
     let color = if ctx.shading == Shading::Diffuse {
         p.diffuse
     } else {
@@ -137,7 +137,7 @@ pub(super) fn fill_solid<B: Blender>(
 }
 
 /// A textured sprite through the general cascade, shaded per pixel.
-pub(super) fn fill_sprite<B: Blender>(
+fn fill_sprite<B: Blender>(
     ctx: &DrawContext,
     b: &B,
     p: &ScreenPoint,
@@ -287,7 +287,7 @@ pub(super) fn fill_modulate<B: Blender>(
 /// [`fill_modulate`] with the sampler at the sprite's level of detail, linear (`LINEAR`) or
 /// point, reading the texels of its `level` (packed or unpacked).
 #[inline(always)]
-pub(super) fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
+fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
     p: &SpriteView,
@@ -305,7 +305,7 @@ pub(super) fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
 
 /// [`fill_modulate`] for a sprite under four columns wide, too narrow for spans: its columns
 /// on the stack, each pixel through [`TexelRow::texel`] (the commonest particle is a few pixels).
-pub(super) fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
+fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
     p: &SpriteView,
@@ -346,7 +346,7 @@ pub(super) fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
 /// column and per row, then four pixels at a time where the texels of all four are inside the
 /// level (one texel read each, or one vertical lerp of two filtered texel rows,
 /// [`TexelRows`]), and [`TexelRow::texel`] for the other pixels.
-pub(super) fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
+fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
     p: &SpriteView,

@@ -12,7 +12,7 @@
 //!    and then its points in vertex order.
 //! 3. [`fills`]: a point's covered pixels: flat colour, per-pixel cascade, or a textured
 //!    sprite with one MODULATE stage (four pixels at a time, or pixel by pixel when narrow).
-//! 4. [`span`]: wide sprites of a binned draw, [`Lanes::N`](crate::lanes::Lanes::N) pixels at a time.
+//! 4. [`span`]: wide sprites of a binned draw, [`Lanes::N`] pixels at a time.
 //! 5. [`texels`]: the stage textures and the texels a sprite's pixels read (SPEC 4.3, 5.2).
 //! 6. [`shading`]: the shading kind of the draw and the single MODULATE stage (SPEC 5.1).
 //! 7. [`blending`]: depth test, blend and channel mask of a shaded pixel (SPEC 5.4 to 5.6).
@@ -21,6 +21,8 @@
 //! count, so the output is bit-identical to sequential drawing. Each fast path computes exactly
 //! the float operations of the core reference ([`pointillist_core::pixel`]) and is tested
 //! against it.
+//!
+//! [`Lanes::N`]: crate::lanes::Lanes::N
 
 use pointillist_core::device::{DRAW_SCRATCH_BYTES, MAX_STAGES, RenderTarget};
 use pointillist_core::draw::DrawSetup;
@@ -41,10 +43,12 @@ mod span;
 mod tests;
 mod texels;
 
+// Besides what this file uses, span.rs reads `Band`, `Blender`, `ModulateAlpha`, `SpriteView`
+// and `rows` from here (`super::`).
 pub(crate) use bands::clear;
 use bands::{Band, draw_binned, rows};
 pub(crate) use binning::Bins;
-use binning::{Binned, Index, Solid, Sprite, trim_bins};
+use binning::{AnyPoint, Binned, Solid, Sprite};
 use blending::{Additive, Blender, General, Replace, SourceAlpha};
 use fills::{Scratch, SpriteView};
 use shading::{ModulateAlpha, Shading};
@@ -108,6 +112,14 @@ impl DrawContext<'_> {
 /// A clear's colour and depth.
 pub(crate) type Clear = (u32, f32);
 
+/// What a draw writes: the target, the clear the backend deferred (written just before the
+/// points), and the bins kept from draw to draw.
+struct DrawTarget<'t> {
+    target: &'t mut RenderTarget,
+    bins: &'t mut Bins,
+    clear: Option<Clear>,
+}
+
 /// Draws `vertices` after writing `clear`, if any, to the whole target.
 pub(crate) fn draw(
     target: &mut RenderTarget,
@@ -116,21 +128,21 @@ pub(crate) fn draw(
     draw: &DrawSetup<'_>,
     vertices: &[u8],
 ) {
-    draw_context(&context(draw, vertices), target, bins, clear);
+    let out = DrawTarget {
+        target,
+        bins,
+        clear,
+    };
+    draw_context(&context(draw, vertices), out);
 }
 
 /// Draws with the states resolved in `ctx`, through the blend family's fill.
-fn draw_context(
-    ctx: &DrawContext,
-    target: &mut RenderTarget,
-    bins: &mut Bins,
-    clear: Option<Clear>,
-) {
+fn draw_context(ctx: &DrawContext, out: DrawTarget) {
     match (ctx.pixel.blend, ctx.blend) {
-        (None, _) => draw_with(ctx, &Replace, target, bins, clear),
-        (Some(_), BlendClass::Additive) => draw_with(ctx, &Additive, target, bins, clear),
-        (Some(_), BlendClass::SourceAlpha) => draw_with(ctx, &SourceAlpha, target, bins, clear),
-        (Some(b), _) => draw_with(ctx, &General(b), target, bins, clear),
+        (None, _) => draw_with(ctx, &Replace, out),
+        (Some(_), BlendClass::Additive) => draw_with(ctx, &Additive, out),
+        (Some(_), BlendClass::SourceAlpha) => draw_with(ctx, &SourceAlpha, out),
+        (Some(b), _) => draw_with(ctx, &General(b), out),
     }
 }
 
@@ -180,52 +192,29 @@ fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
     ctx
 }
 
-fn draw_with<B: Blender>(
-    ctx: &DrawContext,
-    b: &B,
-    target: &mut RenderTarget,
-    bins: &mut Bins,
-    clear: Option<Clear>,
-) {
+/// Draws through blender `b` with the bin entry the draw's points need.
+fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, out: DrawTarget) {
     let pixel_planes = ctx.points.scaled_planes() && !ctx.points.user_planes().is_empty();
     if pixel_planes {
-        draw_points::<B, Index>(ctx, b, target, bins, clear);
+        draw_points::<B, AnyPoint>(ctx, b, out);
     } else if ctx.flat && ctx.shading == Shading::Diffuse {
-        draw_points::<B, Solid>(ctx, b, target, bins, clear);
+        draw_points::<B, Solid>(ctx, b, out);
     } else if !ctx.flat && matches!(ctx.shading, Shading::Modulate(_)) && ctx.textures[0].is_some()
     {
-        draw_points::<B, Sprite>(ctx, b, target, bins, clear);
+        draw_points::<B, Sprite>(ctx, b, out);
     } else {
-        draw_points::<B, Index>(ctx, b, target, bins, clear);
+        draw_points::<B, AnyPoint>(ctx, b, out);
     }
 }
 
 /// Small draws run one point after another on the calling thread; the rest follow the
-/// parallel plan of the module contract with bins of `P`, each band writing `clear` just
-/// before its points.
-fn draw_points<B: Blender, P: Binned>(
-    ctx: &DrawContext,
-    b: &B,
-    target: &mut RenderTarget,
-    bins: &mut Bins,
-    clear: Option<Clear>,
-) {
-    let count = ctx.point_count();
-    let threads = rayon::current_num_threads();
+/// parallel plan of [`bands`] with bins of `P`, each band writing the clear just before its
+/// points.
+fn draw_points<B: Blender, P: Binned>(ctx: &DrawContext, b: &B, out: DrawTarget) {
     if ctx.binned {
-        let scratch = ctx.scratch;
-        draw_binned::<B, P>(
-            ctx,
-            b,
-            target,
-            P::chunks(bins),
-            clear,
-            count,
-            threads,
-            scratch,
-        );
-        return trim_bins(P::chunks(bins));
+        return draw_binned::<B, P>(ctx, b, out);
     }
+    let DrawTarget { target, clear, .. } = out;
     if let Some(c) = clear {
         self::clear(target, c);
     }
@@ -236,5 +225,6 @@ fn draw_points<B: Blender, P: Binned>(
         y0: 0,
         y1: target.height as i32,
     };
+    let count = ctx.point_count();
     P::draw_sequential(ctx, b, &mut band, count, &mut Scratch::default());
 }

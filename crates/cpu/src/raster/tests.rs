@@ -15,8 +15,17 @@ use pointillist_core::texture::Texture;
 
 use super::blending::{General, Replace};
 use super::shading::Shading;
-use super::{Bins, LanesLevel, context, draw_context, draw_with};
+use super::{Bins, DrawTarget, LanesLevel, context, draw_context, draw_with};
 use crate::test_rng::Rng;
+
+/// A draw into `target` with `bins` and no clear.
+fn drawing<'t>(target: &'t mut RenderTarget, bins: &'t mut Bins) -> DrawTarget<'t> {
+    DrawTarget {
+        target,
+        bins,
+        clear: None,
+    }
+}
 
 /// The general path: the core cascade per pixel and the core blender, one point after
 /// another on the calling thread.
@@ -28,8 +37,8 @@ fn draw_general(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertic
         .build()
         .unwrap();
     pool.install(|| match ctx.pixel.blend {
-        None => draw_with(&ctx, &Replace, target, &mut Bins::default(), None),
-        Some(b) => draw_with(&ctx, &General(b), target, &mut Bins::default(), None),
+        None => draw_with(&ctx, &Replace, drawing(target, &mut Bins::default())),
+        Some(b) => draw_with(&ctx, &General(b), drawing(target, &mut Bins::default())),
     });
 }
 
@@ -93,7 +102,7 @@ fn solid_runs_match_the_general_path() {
         let mut solid = start();
         let ctx = context(&DrawSetup::new(state, fvf), &vertices);
         assert!(ctx.flat && ctx.shading == Shading::Diffuse);
-        draw_context(&ctx, &mut solid, &mut Bins::default(), None);
+        draw_context(&ctx, drawing(&mut solid, &mut Bins::default()));
         assert!(solid.color == general.color, "scene {scene}: colour");
         assert!(solid.depth == general.depth, "scene {scene}: depth");
         assert!(
@@ -191,7 +200,7 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
             if let Some(t) = &mut ctx.textures[0] {
                 t.unpack(lanes.is_some());
             }
-            draw_context(&ctx, &mut fast, &mut Bins::default(), None);
+            draw_context(&ctx, drawing(&mut fast, &mut Bins::default()));
             let setup = (setup, lanes, binned);
             for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
                 assert_eq!(

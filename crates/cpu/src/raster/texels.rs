@@ -33,7 +33,7 @@ pub(super) struct StageTexture<'a> {
 }
 
 /// The largest level whose texels a draw unpacks once (1 MiB of [`F4`]).
-pub(super) const UNPACKED_MAX_TEXELS: usize = 1 << 16;
+const UNPACKED_MAX_TEXELS: usize = 1 << 16;
 
 /// A texel as the sprite fills read it: a D3DCOLOR, or one unpacked already.
 pub(super) trait Texel: Copy {
@@ -172,7 +172,7 @@ impl TexelRows {
 }
 
 /// One texel row's horizontal lerps at `groups` (meaningless where the core sampler decides).
-pub(super) fn filter_row<T: Texel>(out: &mut Vec<P4>, row: &[T], groups: &[Group]) {
+fn filter_row<T: Texel>(out: &mut Vec<P4>, row: &[T], groups: &[Group]) {
     out.clear();
     out.extend(groups.iter().map(|g| {
         let left = T::planes(g.left.map(|k| row[k as usize]));
@@ -219,7 +219,7 @@ pub(super) fn texel_index<const LINEAR: bool>(coord: f32, n: u32) -> (i64, f32) 
 /// Whether texel index `k`, and `k + 1` when filtering, are inside an axis of `n` texels, where
 /// every address mode reads them as they are.
 #[inline(always)]
-pub(super) fn texel_inside<const LINEAR: bool>(k: i64, n: u32) -> bool {
+fn texel_inside<const LINEAR: bool>(k: i64, n: u32) -> bool {
     k >= 0 && k + i64::from(LINEAR) < i64::from(n)
 }
 
