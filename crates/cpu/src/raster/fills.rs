@@ -305,6 +305,9 @@ fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
 
 /// [`fill_modulate`] for a sprite under four columns wide, too narrow for spans: its columns
 /// on the stack, each pixel through [`TexelRow::texel`] (the commonest particle is a few pixels).
+/// Inline, so that it inlines into [`fill_sprites`]' loop, which is instantiated where it is
+/// called.
+#[inline]
 fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
