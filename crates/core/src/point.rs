@@ -111,11 +111,13 @@ pub struct PixelRect {
 
 impl PixelRect {
     /// True when no pixel is inside.
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.x0 >= self.x1 || self.y0 >= self.y1
     }
 
     /// The overlap of two rectangles.
+    #[inline]
     pub fn intersect(&self, o: &PixelRect) -> PixelRect {
         PixelRect {
             x0: self.x0.max(o.x0),
@@ -453,6 +455,18 @@ impl PointSetup {
         rhw > 0.0 && (!self.clipping || (vp.min_z <= z && z <= vp.max_z))
     }
 
+    /// SPEC 4.1 and 3.2: the left and top edges of the square of side `size` centred on screen
+    /// position (`x`, `y`), and the pixels it covers inside the viewport (empty when none).
+    #[inline]
+    pub fn covered_square(&self, x: f32, y: f32, size: f32) -> (f32, f32, PixelRect) {
+        let half = size / 2.0;
+        let (left, top) = (x - half, y - half);
+        let (x0, x1) = covered_range(left, x + half);
+        let (y0, y1) = covered_range(top, y + half);
+        let rect = PixelRect { x0, y0, x1, y1 }.intersect(&self.viewport_rect);
+        (left, top, rect)
+    }
+
     /// SPEC 1, 2.2 and 3.1 for a finite object-space position of a transformed vertex: its
     /// clip-space position, eye distance and screen position; `None` when it is dropped (clip
     /// w <= 0 or not finite, or depth outside `0 <= z <= w` with clipping). The screen position
@@ -510,11 +524,7 @@ impl PointSetup {
         if !(x.is_finite() && y.is_finite() && z.is_finite()) {
             return None;
         }
-        let half = size / 2.0;
-        let (left, top) = (x - half, y - half);
-        let (x0, x1) = covered_range(left, x + half);
-        let (y0, y1) = covered_range(top, y + half);
-        let rect = PixelRect { x0, y0, x1, y1 }.intersect(&self.viewport_rect);
+        let (left, top, rect) = self.covered_square(x, y, size);
         if rect.is_empty() {
             return None; // SPEC 3.2 and 2.5
         }

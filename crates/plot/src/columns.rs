@@ -45,7 +45,7 @@ impl Column<'_> {
         }
     }
 
-    fn slice(&self, rows: std::ops::Range<usize>) -> Column<'_> {
+    pub(crate) fn slice(&self, rows: std::ops::Range<usize>) -> Column<'_> {
         match self {
             Column::F32(v) => Column::F32(&v[rows]),
             Column::F64(v) => Column::F64(&v[rows]),
@@ -256,8 +256,8 @@ fn write_column(
     }
 }
 
-/// The error naming the first NaN of `points`.
-fn first_nan(points: &Points<'_>, first_row: usize) -> PlotError {
+/// The error naming the first NaN of `points`, counting rows from `first_row`.
+pub(crate) fn first_nan(points: &Points<'_>, first_row: usize) -> PlotError {
     let size = match points.size {
         Sizes::PerPoint(s) => Some(s),
         Sizes::Constant(_) => None,

@@ -33,6 +33,7 @@
 pub mod axes;
 mod blend;
 mod columns;
+mod counts;
 pub mod tiles;
 
 use std::fmt;
@@ -335,6 +336,16 @@ impl Plot {
 
     /// [`Plot::render`] into `out`, `width * height * 4` bytes.
     pub fn render_into(&self, points: &Points<'_>, out: &mut [u8]) -> Result<(), PlotError> {
+        self.check(points)?;
+        if counts::render(self, points, out)? {
+            return Ok(());
+        }
+        self.render_on_device(points, out)
+    }
+
+    /// [`Plot::render_into`] through a CPU device for every draw: vertices, the backend's
+    /// binning and shading. `render_into` counts draws of one colour instead (same pixels).
+    pub fn render_on_device(&self, points: &Points<'_>, out: &mut [u8]) -> Result<(), PlotError> {
         self.check(points)?;
         let size = (self.width, self.height);
         let mut device = self.device(
