@@ -1,0 +1,451 @@
+//! Fills: the covered pixels of one point inside a band (SPEC 4, 5): a flat colour shaded once
+//! ([`fill_flat`], [`fill_solid`]), the general cascade per pixel ([`fill_sprite`]), or a
+//! textured sprite with one MODULATE stage ([`fill_modulate`]: four pixels at a time, pixel by
+//! pixel under four columns, or the wide spans of [`super::span`] for binned sprites).
+//!
+//! Contract: each fill writes, at every covered pixel the clip planes keep, the pixel of
+//! core's [`PixelSetup::shade`] and [`blend`], in the point's order.
+//!
+//! [`PixelSetup::shade`]: pointillist_core::pixel::PixelSetup::shade
+//! [`blend`]: pointillist_core::pixel::blend
+
+use pointillist_core::color::{Rgba, pack};
+use pointillist_core::pixel::{alpha_test_passes, write_masked};
+use pointillist_core::point::{PixelPlane, PixelRect, ScreenPoint, sprite_coord};
+
+use super::bands::{Band, rows};
+use super::binning::Sprite;
+use super::blending::{Blender, depth_run, depth_test, write_pixel};
+use super::shading::{Modulate, ModulateAlpha, Shading, inputs};
+use super::texels::{
+    Column, Group, LevelTexels, StageTexture, Texel, TexelRow, TexelRows, sprite_samplers,
+};
+use super::{DrawContext, span};
+use crate::simd::P4;
+
+/// Binned sprites this many columns wide or more fill through the wide spans ([`span`]);
+/// narrower ones through [`fill_narrow`] (measured: 2 and 3 columns are faster there).
+const SPAN_MIN_COLUMNS: i32 = 4;
+
+/// Per-point working memory, reused from point to point so no point allocates.
+#[derive(Default)]
+pub(super) struct Scratch {
+    /// Sprite u per covered column (SPEC 4.3).
+    u: Vec<f32>,
+    /// Texel column per covered column, for [`fill_modulate`].
+    cols: Vec<Column>,
+    /// The covered columns four at a time, for [`fill_modulate`] with linear filtering.
+    groups: Vec<Group>,
+    /// Filtered texel rows, for [`fill_modulate`] with linear filtering.
+    texel_rows: TexelRows,
+    /// The wide spans' columns and rows.
+    span: span::SpanScratch,
+}
+
+pub(super) fn fill<B: Blender>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &ScreenPoint,
+    band: &mut Band,
+    s: &mut Scratch,
+) {
+    if ctx.flat {
+        fill_flat(ctx, b, p, band);
+    } else {
+        match ctx.shading {
+            Shading::Modulate(alpha) => match &ctx.textures[0] {
+                Some(t) => fill_modulate(ctx, b, &SpriteView::of(p), t, band, s, alpha),
+                None => fill_sprite(ctx, b, p, band, &mut s.u),
+            },
+            _ => fill_sprite(ctx, b, p, band, &mut s.u),
+        }
+    }
+}
+
+/// One point whose every pixel has the same colour: shade once, then depth and blend per pixel.
+fn fill_flat<B: Blender>(ctx: &DrawContext, b: &B, p: &ScreenPoint, band: &mut Band) {
+    let color = if ctx.shading == Shading::Diffuse {
+        p.diffuse
+    } else {
+        pack(ctx.pixel.shade(&inputs(p), |stage| {
+            // Vertex coordinates at every pixel: constant coordinates, magnification (SPEC 4.3).
+            let Some(t) = &ctx.textures[stage] else {
+                return [0.0; 4];
+            };
+            let [u, v, ..] = ctx.points.tex_coords(ctx.vertices, p.vertex, t.set);
+            t.texture.sample(&t.sampler, u, v, f32::NEG_INFINITY)
+        }))
+    };
+    if !alpha_test_passes(ctx.pixel.alpha_test, color) {
+        return;
+    }
+    let r = p.rect;
+    let planes = p.pixel_planes();
+    if planes.is_empty() {
+        return fill_solid(ctx, b, r, p.z, color, band);
+    }
+    for j in rows(p.rect, band) {
+        let row = (j - band.y0) as usize * band.width;
+        for i in r.x0..r.x1 {
+            if planes.iter().all(|pl| pl.keeps(i, j)) {
+                write_pixel(ctx, b, band, row + i as usize, p.z, color);
+            }
+        }
+    }
+}
+
+/// The pixels `rect` (inside `band`) of a point of one colour `color` at depth `z` that passed
+/// the alpha test: depth test, blend and mask per pixel (SPEC 5.4 to 5.6).
+#[inline(always)]
+pub(super) fn fill_solid<B: Blender>(
+    ctx: &DrawContext,
+    b: &B,
+    r: PixelRect,
+    z: f32,
+    color: u32,
+    band: &mut Band,
+) {
+    let Some(depth) = ctx.pixel.depth else {
+        // The common particle case: whole rows, blend and mask only.
+        return b.blend_rect(color, band, r, ctx.pixel.write_mask);
+    };
+    // Each run of pixels passing the depth test is blended as a rectangle (a pixel's depth
+    // test and write still come before its blend; no pixel depends on another).
+    for j in rows(r, band) {
+        let row = (j - band.y0) as usize * band.width;
+        let mut x = r.x0;
+        while x < r.x1 {
+            let depths = &mut band.depth[row + x as usize..row + r.x1 as usize];
+            let pass = depth_run(depth.func, z, depths, true);
+            if pass > 0 {
+                if depth.write {
+                    depths[..pass].fill(z);
+                }
+                let run = PixelRect {
+                    x0: x,
+                    y0: j,
+                    x1: x + pass as i32,
+                    y1: j + 1,
+                };
+                b.blend_rect(color, band, run, ctx.pixel.write_mask);
+                x += pass as i32;
+            }
+            let depths = &band.depth[row + x as usize..row + r.x1 as usize];
+            x += depth_run(depth.func, z, depths, false) as i32;
+        }
+    }
+}
+
+/// A textured sprite through the general cascade, shaded per pixel.
+fn fill_sprite<B: Blender>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &ScreenPoint,
+    band: &mut Band,
+    u: &mut Vec<f32>,
+) {
+    let samplers = sprite_samplers(ctx, p, u);
+    let input = inputs(p);
+    let planes = p.pixel_planes();
+    for j in rows(p.rect, band) {
+        let v = sprite_coord(j, p.top, p.size);
+        let row = (j - band.y0) as usize * band.width;
+        for (i, &u) in (p.rect.x0..p.rect.x1).zip(u.iter()) {
+            if !planes.iter().all(|pl| pl.keeps(i, j)) {
+                continue;
+            }
+            let shaded: Rgba = ctx.pixel.shade(&input, |stage| {
+                samplers[stage].map_or([0.0; 4], |s| s.sample(u, v))
+            });
+            let color = pack(shaded);
+            if alpha_test_passes(ctx.pixel.alpha_test, color) {
+                write_pixel(ctx, b, band, row + i as usize, p.z, color);
+            }
+        }
+    }
+}
+
+/// What the fills of a textured sprite read of a point (SPEC 4.3): the covered rectangle,
+/// depth, diffuse colour, near edges, side and per-pixel clip planes.
+#[derive(Copy, Clone)]
+pub(super) struct SpriteView<'p> {
+    pub(super) rect: PixelRect,
+    pub(super) z: f32,
+    pub(super) diffuse: u32,
+    pub(super) left: f32,
+    pub(super) top: f32,
+    pub(super) size: f32,
+    pub(super) planes: &'p [PixelPlane],
+}
+
+impl<'p> SpriteView<'p> {
+    pub(super) fn of(p: &'p ScreenPoint) -> SpriteView<'p> {
+        SpriteView {
+            rect: p.rect,
+            z: p.z,
+            diffuse: p.diffuse,
+            left: p.left,
+            top: p.top,
+            size: p.size,
+            planes: p.pixel_planes(),
+        }
+    }
+
+    /// Whether the clip planes keep pixel `(i, j)` (SPEC 3.3).
+    #[inline(always)]
+    pub(super) fn keeps(&self, i: i32, j: i32) -> bool {
+        self.planes.is_empty() || self.planes.iter().all(|pl| pl.keeps(i, j))
+    }
+}
+
+/// Fills binned sprites one after another, as [`fill_modulate`] does: with one sampler for
+/// every size (no level of detail), it and its filter are resolved once for the band instead
+/// of once a sprite, and sprites at least [`SPAN_MIN_COLUMNS`] wide fill through the wide spans
+/// ([`span::fill`]) where the draw has them.
+#[inline]
+pub(super) fn fill_sprites<B: Blender>(
+    points: &[Sprite],
+    ctx: &DrawContext,
+    b: &B,
+    band: &mut Band,
+    s: &mut Scratch,
+) {
+    let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) else {
+        return;
+    };
+    // The match once for the band, each arm its own loop.
+    let Some(f) = &t.fixed else {
+        for p in points {
+            fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
+        }
+        return;
+    };
+    let (packed, unpacked) = (&f.level().texels[..], &t.unpacked[..]);
+    let linear = f.is_linear();
+    // The wide spans' vectors and level, decided once for the band.
+    let wide = ctx.spans.zip(t.planar.as_ref());
+    macro_rules! each {
+        ($linear:literal, $texels:expr) => {
+            for p in points {
+                let view = p.view();
+                if let Some((lanes, planar)) = wide
+                    && view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
+                    && span::fill(
+                        lanes,
+                        linear,
+                        ctx,
+                        b,
+                        &view,
+                        band,
+                        &mut s.span,
+                        alpha,
+                        planar,
+                    )
+                {
+                    continue;
+                }
+                let level = LevelTexels {
+                    sampler: f,
+                    texels: $texels,
+                };
+                fill_modulate_at::<B, $linear, _>(ctx, b, &view, band, s, alpha, level);
+            }
+        };
+    }
+    match (linear, unpacked.is_empty()) {
+        (true, false) => each!(true, unpacked),
+        (false, false) => each!(false, unpacked),
+        (true, true) => each!(true, packed),
+        (false, true) => each!(false, packed),
+    }
+}
+
+/// A textured sprite with [`Shading::Modulate`] and stage 0's texture `t`: the cascade's
+/// arithmetic for that one stage, `texture * diffuse` per channel with the alpha of `alpha`
+/// (SPEC 5.1), sampled at the sprite's level of detail (SPEC 4.3, 5.2).
+pub(super) fn fill_modulate<B: Blender>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    t: &StageTexture,
+    band: &mut Band,
+    s: &mut Scratch,
+    alpha: ModulateAlpha,
+) {
+    let sampler = t.sprite_sampler(p.size);
+    let level = LevelTexels {
+        sampler: &sampler,
+        texels: &sampler.level().texels[..],
+    };
+    if sampler.is_linear() {
+        fill_modulate_at::<B, true, u32>(ctx, b, p, band, s, alpha, level);
+    } else {
+        fill_modulate_at::<B, false, u32>(ctx, b, p, band, s, alpha, level);
+    }
+}
+
+/// [`fill_modulate`] with the sampler at the sprite's level of detail, linear (`LINEAR`) or
+/// point, reading the texels of its `level` (packed or unpacked).
+#[inline(always)]
+fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    s: &mut Scratch,
+    alpha: ModulateAlpha,
+    level: LevelTexels<T>,
+) {
+    if p.rect.x1 - p.rect.x0 < 4 {
+        fill_narrow::<B, LINEAR, T>(ctx, b, p, band, alpha, level);
+    } else {
+        fill_modulate_with::<B, LINEAR, T>(ctx, b, p, band, s, alpha, level);
+    }
+}
+
+/// [`fill_modulate`] for a sprite under four columns wide, too narrow for spans: its columns
+/// on the stack, each pixel through [`TexelRow::texel`] (the commonest particle is a few pixels).
+/// Inline, so that it inlines into [`fill_sprites`]' loop, which is instantiated where it is
+/// called.
+#[inline]
+fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    alpha: ModulateAlpha,
+    LevelTexels { sampler, texels }: LevelTexels<T>,
+) {
+    let level = sampler.level();
+    let single = sampler.mip_blend().is_none();
+    let x0 = p.rect.x0;
+    let mut cols = [Column {
+        u: 0.0,
+        k: -1,
+        fx: 0.0,
+    }; 3];
+    let len = (p.rect.x1 - x0) as usize;
+    for (c, i) in cols.iter_mut().zip(x0..p.rect.x1) {
+        *c = Column::new::<LINEAR>(i, p, level.width, single);
+    }
+    let modulate = Modulate::new(alpha, p.diffuse);
+    let width = level.width as usize;
+    for j in rows(p.rect, band) {
+        let texel_row = TexelRow::new::<LINEAR>(j, p, level, texels, single);
+        let row = (j - band.y0) as usize * band.width + x0 as usize;
+        for (n, c) in cols[..len].iter().enumerate() {
+            if !p.keeps(x0 + n as i32, j) {
+                continue;
+            }
+            let color = modulate.shade(texel_row.texel::<LINEAR>(width, c, sampler));
+            if alpha_test_passes(ctx.pixel.alpha_test, color) {
+                write_pixel(ctx, b, band, row + n, p.z, color);
+            }
+        }
+    }
+}
+
+/// [`fill_modulate`] for linear (`LINEAR`) or point filtering: texel indices and weights per
+/// column and per row, then four pixels at a time where the texels of all four are inside the
+/// level (one texel read each, or one vertical lerp of two filtered texel rows,
+/// [`TexelRows`]), and [`TexelRow::texel`] for the other pixels.
+fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    s: &mut Scratch,
+    alpha: ModulateAlpha,
+    LevelTexels {
+        sampler,
+        texels: level_texels,
+    }: LevelTexels<T>,
+) {
+    let (cols, groups, texel_rows) = (&mut s.cols, &mut s.groups, &mut s.texel_rows);
+    texel_rows.reset();
+    let level = sampler.level();
+    let single = sampler.mip_blend().is_none();
+    cols.clear();
+    cols.extend((p.rect.x0..p.rect.x1).map(|i| Column::new::<LINEAR>(i, p, level.width, single)));
+    // Spans of four pixels need no clip planes. With linear filtering they read filtered texel
+    // rows, which pay for sprites four columns wide or more.
+    let spans = p.planes.is_empty();
+    let filtered_rows = LINEAR && spans;
+    groups.clear();
+    if filtered_rows {
+        groups.extend(cols.chunks(4).map(Group::new));
+    }
+    let modulate = Modulate::new(alpha, p.diffuse);
+    // Its planar form, for the spans.
+    let m4 = P4::splat(modulate.m.lanes());
+    let d4 = P4::splat(modulate.diffuse.lanes());
+    let mask = ctx.pixel.write_mask;
+    // Neither alpha nor depth test: a span writes all four pixels.
+    let plain = ctx.pixel.alpha_test.is_none() && ctx.pixel.depth.is_none();
+    let width = level.width as usize;
+    let len = cols.len();
+    for j in rows(p.rect, band) {
+        let texel_row = TexelRow::new::<LINEAR>(j, p, level, level_texels, single);
+        let TexelRow { fy, texels, .. } = texel_row;
+        let direct = !texels.is_empty();
+        // The horizontal lerps of texel rows l and l + 1 for the spans.
+        let [top, bottom] = if direct && filtered_rows {
+            texel_rows.pair(level_texels, width, groups, texel_row.l)
+        } else {
+            [&[][..], &[][..]]
+        };
+        let row = (j - band.y0) as usize * band.width + p.rect.x0 as usize;
+        let mut n = 0;
+        while n < len {
+            let four = &cols[n..len.min(n + 4)];
+            let direct4 = if LINEAR {
+                filtered_rows && groups[n / 4].direct
+            } else {
+                four.len() == 4 && four.iter().all(|c| c.k >= 0)
+            };
+            if spans && direct && n % 4 == 0 && direct4 {
+                // Four pixels at once, the arithmetic of `TexelRow::texel` and `Modulate` lane
+                // by lane.
+                let texel = if LINEAR {
+                    P4::lerp_by(top[n / 4], bottom[n / 4], fy)
+                } else {
+                    T::planes(std::array::from_fn(|i| texels[four[i].k as usize]))
+                };
+                let mut shaded = texel.mul(m4);
+                if modulate.diffuse_alpha {
+                    shaded = shaded.with_alpha_of(d4);
+                }
+                let (src, src4) = shaded.quantize();
+                let at = row + n;
+                let old: [u32; 4] = std::array::from_fn(|i| band.color[at + i]);
+                let new = b.blend4(src, &src4, old);
+                if plain {
+                    for i in 0..4 {
+                        band.color[at + i] = write_masked(mask, new[i], old[i]);
+                    }
+                    n += 4;
+                    continue;
+                }
+                for i in 0..4 {
+                    // Alpha test, then depth test and write (SPEC 5.3, 5.4), as write_pixel.
+                    if alpha_test_passes(ctx.pixel.alpha_test, src[i])
+                        && depth_test(ctx, band, at + i, p.z)
+                    {
+                        band.color[at + i] = write_masked(mask, new[i], old[i]);
+                    }
+                }
+                n += 4;
+                continue;
+            }
+            let c = &cols[n];
+            n += 1;
+            if !p.keeps(p.rect.x0 + n as i32 - 1, j) {
+                continue;
+            }
+            let color = modulate.shade(texel_row.texel::<LINEAR>(width, c, sampler));
+            if alpha_test_passes(ctx.pixel.alpha_test, color) {
+                write_pixel(ctx, b, band, row + n - 1, p.z, color);
+            }
+        }
+    }
+}

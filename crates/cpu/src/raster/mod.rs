@@ -1,0 +1,230 @@
+//! Rasterization: the per-point stage from core, then the covered pixels through the pixel
+//! pipeline, with the result of drawing the points one after another (SPEC 4, 5.5).
+//!
+//! [`draw`] resolves the states once per draw ([`DrawContext`]) and makes three decisions: the
+//! blend family ([`blending`]: replace, additive, source-alpha, general), what a bin keeps of a
+//! point ([`binning`]: a solid point, a sprite, or any point), and whether the draw runs point
+//! after point on the calling thread or binned in bands ([`bands`]). The stages, in order:
+//!
+//! 1. [`binning`]: chunks of vertices through the per-point stage in parallel, each point kept
+//!    in compact form in the bins of the bands it touches, in vertex order.
+//! 2. [`bands`]: the bands of target rows, filled in parallel, each writing a deferred clear
+//!    and then its points in vertex order.
+//! 3. [`fills`]: a point's covered pixels: flat colour, per-pixel cascade, or a textured
+//!    sprite with one MODULATE stage (four pixels at a time, or pixel by pixel when narrow).
+//! 4. [`span`]: wide sprites of a binned draw, [`Lanes::N`] pixels at a time.
+//! 5. [`texels`]: the stage textures and the texels a sprite's pixels read (SPEC 4.3, 5.2).
+//! 6. [`shading`]: the shading kind of the draw and the single MODULATE stage (SPEC 5.1).
+//! 7. [`blending`]: depth test, blend and channel mask of a shaded pixel (SPEC 5.4 to 5.6).
+//!
+//! Parallel plan: every pixel sees the same operations in the same order whatever the thread
+//! count, so the output is bit-identical to sequential drawing. Each fast path computes exactly
+//! the float operations of the core reference ([`pointillist_core::pixel`]) and is tested
+//! against it.
+//!
+//! [`Lanes::N`]: crate::lanes::Lanes::N
+
+use pointillist_core::device::{DRAW_SCRATCH_BYTES, MAX_STAGES, RenderTarget};
+use pointillist_core::draw::DrawSetup;
+use pointillist_core::pixel::{BlendClass, PixelSetup};
+use pointillist_core::point::PointSetup;
+use pointillist_core::texture::SamplerDesc;
+
+use crate::lanes::Level as LanesLevel;
+use crate::stage::SquareStage;
+
+mod bands;
+mod binning;
+mod blending;
+mod fills;
+mod shading;
+mod span;
+#[cfg(test)]
+mod tests;
+mod texels;
+
+// Besides what this file uses, span.rs reads `Band`, `Blender`, `ModulateAlpha`, `SpriteView`
+// and `rows` from here (`super::`).
+pub(crate) use bands::clear;
+use bands::{Band, draw_binned, rows};
+pub(crate) use binning::Bins;
+use binning::{AnyPoint, Binned, Solid, Sprite};
+use blending::{Additive, Blender, General, Replace, SourceAlpha};
+use fills::{Scratch, SpriteView};
+use shading::{ModulateAlpha, Shading};
+use texels::StageTexture;
+// The span tests compare their indices with the per-pixel fills' through this path.
+#[cfg(test)]
+use texels::texel_index;
+
+/// Draws with fewer points run one point after another on the calling thread, unless they
+/// cover [`PARALLEL_MIN_PIXELS`]; bigger ones are binned, with any number of threads (the
+/// bands' locality pays on one thread too).
+const PARALLEL_MIN_POINTS: u32 = 2048;
+
+/// Draws of fewer points covering this many pixels or more (a few hundred big sprites) are
+/// binned too: their fill outweighs the bins' cost.
+const PARALLEL_MIN_PIXELS: u64 = 1 << 15;
+
+/// Everything resolved once per draw.
+struct DrawContext<'a> {
+    /// Whether the draw bins its points and fills bands in parallel (else point after point):
+    /// [`PARALLEL_MIN_POINTS`] or more, or fewer covering [`PARALLEL_MIN_PIXELS`]. Tests set it.
+    binned: bool,
+    /// The most bytes a binned draw's bins hold: [`DRAW_SCRATCH_BYTES`]. Tests set it.
+    scratch: usize,
+    points: PointSetup,
+    /// [`PixelSetup::is_flat`], once per draw.
+    flat: bool,
+    squares: SquareStage,
+    pixel: PixelSetup,
+    blend: BlendClass,
+    shading: Shading,
+    textures: [Option<StageTexture<'a>>; MAX_STAGES],
+    vertices: &'a [u8],
+    /// The vectors the wide spans (and the point stage's batches) run on; none on the portable
+    /// level, whose spans are the tests' twin (binned sprites then take the four-pixel spans).
+    spans: Option<LanesLevel>,
+}
+
+impl DrawContext<'_> {
+    /// The points of the draw.
+    fn point_count(&self) -> u32 {
+        (self.vertices.len() / self.points.layout().stride) as u32
+    }
+
+    /// [`DrawContext::binned`] by the point count, else by the pixels the points cover (which
+    /// runs the per-point stage over a small draw once more).
+    fn bins(&self) -> bool {
+        let count = self.point_count();
+        if count >= PARALLEL_MIN_POINTS {
+            return true;
+        }
+        let mut pixels = 0u64;
+        self.squares
+            .for_each(&self.points, self.vertices, 0..count, |_, s| {
+                pixels += s.rect.area();
+            });
+        pixels >= PARALLEL_MIN_PIXELS
+    }
+}
+
+/// A clear's colour and depth.
+pub(crate) type Clear = (u32, f32);
+
+/// What a draw writes: the target, the clear the backend deferred (written just before the
+/// points), and the bins kept from draw to draw.
+struct DrawTarget<'t> {
+    target: &'t mut RenderTarget,
+    bins: &'t mut Bins,
+    clear: Option<Clear>,
+}
+
+/// Draws `vertices` after writing `clear`, if any, to the whole target.
+pub(crate) fn draw(
+    target: &mut RenderTarget,
+    bins: &mut Bins,
+    clear: Option<Clear>,
+    draw: &DrawSetup<'_>,
+    vertices: &[u8],
+) {
+    let out = DrawTarget {
+        target,
+        bins,
+        clear,
+    };
+    draw_context(&context(draw, vertices), out);
+}
+
+/// Draws with the states resolved in `ctx`, through the blend family's fill.
+fn draw_context(ctx: &DrawContext, out: DrawTarget) {
+    match (ctx.pixel.blend, ctx.blend) {
+        (None, _) => draw_with(ctx, &Replace, out),
+        (Some(_), BlendClass::Additive) => draw_with(ctx, &Additive, out),
+        (Some(_), BlendClass::SourceAlpha) => draw_with(ctx, &SourceAlpha, out),
+        (Some(b), _) => draw_with(ctx, &General(b), out),
+    }
+}
+
+/// What the fills need of `draw`, once.
+fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
+    let (state, pixel) = (draw.state, draw.pixel.clone());
+    let textures = std::array::from_fn(|i| {
+        let stage = &pixel.stages[i];
+        if i >= pixel.stage_count || !stage.samples {
+            return None;
+        }
+        state.textures[i].as_deref().map(|texture| {
+            let sampler = SamplerDesc::from_states(&state.sampler_states[i]);
+            StageTexture {
+                texture,
+                sampler,
+                set: stage.texcoord_set,
+                fixed: (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0)),
+                unpacked: Vec::new(),
+                planar: None,
+            }
+        })
+    });
+    let points = draw.points.clone();
+    let spans = Some(LanesLevel::detect()).filter(|l| !matches!(l, LanesLevel::Portable));
+    let mut ctx = DrawContext {
+        binned: false,
+        scratch: DRAW_SCRATCH_BYTES as usize,
+        squares: SquareStage::new(&points, spans),
+        flat: pixel.is_flat(),
+        points,
+        shading: Shading::of(&pixel),
+        pixel,
+        blend: draw.blend,
+        textures,
+        vertices,
+        spans,
+    };
+    ctx.binned = ctx.bins();
+    // Binned sprites read stage 0's texels unpacked, when its level is small.
+    if ctx.binned
+        && matches!(ctx.shading, Shading::Modulate(_))
+        && let Some(t) = &mut ctx.textures[0]
+    {
+        t.unpack(ctx.spans.is_some());
+    }
+    ctx
+}
+
+/// Draws through blender `b` with the bin entry the draw's points need.
+fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, out: DrawTarget) {
+    let pixel_planes = ctx.points.scaled_planes() && !ctx.points.user_planes().is_empty();
+    if pixel_planes {
+        draw_points::<B, AnyPoint>(ctx, b, out);
+    } else if ctx.flat && ctx.shading == Shading::Diffuse {
+        draw_points::<B, Solid>(ctx, b, out);
+    } else if !ctx.flat && matches!(ctx.shading, Shading::Modulate(_)) && ctx.textures[0].is_some()
+    {
+        draw_points::<B, Sprite>(ctx, b, out);
+    } else {
+        draw_points::<B, AnyPoint>(ctx, b, out);
+    }
+}
+
+/// Small draws run one point after another on the calling thread; the rest follow the
+/// parallel plan of [`bands`] with bins of `P`, each band writing the clear just before its
+/// points.
+fn draw_points<B: Blender, P: Binned>(ctx: &DrawContext, b: &B, out: DrawTarget) {
+    if ctx.binned {
+        return draw_binned::<B, P>(ctx, b, out);
+    }
+    let DrawTarget { target, clear, .. } = out;
+    if let Some(c) = clear {
+        self::clear(target, c);
+    }
+    let mut band = Band {
+        color: &mut target.color,
+        depth: &mut target.depth,
+        width: target.width as usize,
+        y0: 0,
+        y1: target.height as i32,
+    };
+    let count = ctx.point_count();
+    P::draw_sequential(ctx, b, &mut band, count, &mut Scratch::default());
+}

@@ -1,0 +1,114 @@
+//! Shading: how a draw's pixels get their colour, decided once per draw ([`Shading`]), and the
+//! single MODULATE stage of the commonest particle setup ([`Modulate`], SPEC 5.1).
+//!
+//! Contract: [`Modulate`] computes exactly core's cascade for that stage.
+
+use pointillist_core::color::unpack;
+use pointillist_core::pixel::{PixelSetup, ShadeInputs};
+use pointillist_core::point::ScreenPoint;
+use pointillist_core::states::{TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
+
+use crate::simd::F4;
+
+/// The alpha of a single MODULATE stage (see [`Shading::Modulate`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum ModulateAlpha {
+    /// SELECTARG1(TEXTURE).
+    Texture,
+    /// MODULATE(TEXTURE, DIFFUSE or CURRENT).
+    Modulate,
+    /// DISABLE, or SELECTARG2(DIFFUSE or CURRENT): the diffuse alpha.
+    Diffuse,
+}
+
+/// How a pixel's colour is computed, decided once per draw.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(super) enum Shading {
+    /// The cascade passes DIFFUSE through ([`PixelSetup::passes_diffuse`]).
+    Diffuse,
+    /// Stage 0 alone, COLOROP MODULATE(TEXTURE, DIFFUSE or CURRENT), no specular, no fog: the
+    /// commonest particle setup, as the cascade computes it.
+    Modulate(ModulateAlpha),
+    /// Anything else: [`PixelSetup::shade`].
+    General,
+}
+
+impl Shading {
+    /// The shading kind of the pixel setup `px` (SPEC 5.1).
+    pub(super) fn of(px: &PixelSetup) -> Shading {
+        if px.passes_diffuse() {
+            return Shading::Diffuse;
+        }
+        let st = &px.stages[0];
+        let diffuse = |a: u32| a == TA_DIFFUSE || a == TA_CURRENT; // stage 0: CURRENT is DIFFUSE
+        if px.stage_count != 1
+            || px.specular
+            || px.fog.is_some()
+            || !st.samples
+            || st.result_to_temp
+            || st.color_op != TextureOp::Modulate
+            || st.color_args[1] != TA_TEXTURE
+            || !diffuse(st.color_args[2])
+        {
+            return Shading::General;
+        }
+        match st.alpha_op {
+            TextureOp::SelectArg1 if st.alpha_args[1] == TA_TEXTURE => {
+                Shading::Modulate(ModulateAlpha::Texture)
+            }
+            TextureOp::Modulate if st.alpha_args[1] == TA_TEXTURE && diffuse(st.alpha_args[2]) => {
+                Shading::Modulate(ModulateAlpha::Modulate)
+            }
+            TextureOp::Disable => Shading::Modulate(ModulateAlpha::Diffuse),
+            TextureOp::SelectArg2 if diffuse(st.alpha_args[2]) => {
+                Shading::Modulate(ModulateAlpha::Diffuse)
+            }
+            _ => Shading::General,
+        }
+    }
+}
+
+pub(super) fn inputs(p: &ScreenPoint) -> ShadeInputs {
+    ShadeInputs {
+        diffuse: unpack(p.diffuse),
+        specular: unpack(p.specular),
+        fog: p.fog,
+    }
+}
+
+/// The single MODULATE stage of [`Shading::Modulate`] for one diffuse colour (SPEC 5.1).
+#[derive(Copy, Clone)]
+pub(super) struct Modulate {
+    /// The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
+    /// passes through unchanged.
+    pub(super) m: F4,
+    pub(super) diffuse: F4,
+    /// The result takes the diffuse alpha.
+    pub(super) diffuse_alpha: bool,
+}
+
+impl Modulate {
+    #[inline(always)]
+    pub(super) fn new(alpha: ModulateAlpha, diffuse: u32) -> Modulate {
+        let d = F4::from_argb(diffuse);
+        Modulate {
+            m: match alpha {
+                ModulateAlpha::Texture => d.with_alpha_of(F4::splat(1.0)),
+                ModulateAlpha::Modulate | ModulateAlpha::Diffuse => d,
+            },
+            diffuse: d,
+            diffuse_alpha: alpha == ModulateAlpha::Diffuse,
+        }
+    }
+
+    /// The stage's result for `texel`, packed (SPEC 1).
+    #[inline(always)]
+    pub(super) fn shade(&self, texel: F4) -> u32 {
+        let shaded = texel.mul(self.m);
+        if self.diffuse_alpha {
+            shaded.with_alpha_of(self.diffuse).to_argb()
+        } else {
+            shaded.to_argb()
+        }
+    }
+}

@@ -1,0 +1,214 @@
+//! Whole draws through the fast paths (solid runs, sprite fills, spans, blenders, bins and
+//! threads) against the general path: the core cascade and blender per pixel, point after
+//! point.
+
+use std::sync::Arc;
+
+use pointillist_core::device::{DeviceDesc, DeviceState, RenderTarget};
+use pointillist_core::draw::DrawSetup;
+use pointillist_core::fvf::Fvf;
+use pointillist_core::states::{
+    Blend, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureOp,
+    TextureStageState,
+};
+use pointillist_core::texture::Texture;
+
+use super::blending::{General, Replace};
+use super::shading::Shading;
+use super::{Bins, DrawTarget, LanesLevel, context, draw_context, draw_with};
+use crate::test_rng::Rng;
+
+/// A draw into `target` with `bins` and no clear.
+fn drawing<'t>(target: &'t mut RenderTarget, bins: &'t mut Bins) -> DrawTarget<'t> {
+    DrawTarget {
+        target,
+        bins,
+        clear: None,
+    }
+}
+
+/// The general path: the core cascade per pixel and the core blender, one point after
+/// another on the calling thread.
+fn draw_general(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertices: &[u8]) {
+    let mut ctx = context(&DrawSetup::new(state, fvf), vertices);
+    ctx.shading = Shading::General;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    pool.install(|| match ctx.pixel.blend {
+        None => draw_with(&ctx, &Replace, drawing(target, &mut Bins::default())),
+        Some(b) => draw_with(&ctx, &General(b), drawing(target, &mut Bins::default())),
+    });
+}
+
+/// Untextured points (filled as runs of pixels passing the depth test, blended a rectangle
+/// at a time) give the pixels of the general path's pixel-by-pixel depth test and blend,
+/// for every depth function, with and without depth writes, under channel masks.
+#[test]
+fn solid_runs_match_the_general_path() {
+    let mut rng = Rng(0x50_11D5_0000_0019);
+    for scene in 0..48 {
+        let (w, h) = (40, 36);
+        let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+        device.set_render_state(RenderState::LIGHTING, false);
+        device.set_render_state(RenderState::ZENABLE, true);
+        let func = rng.pick(&[
+            Cmp::Less,
+            Cmp::LessEqual,
+            Cmp::Equal,
+            Cmp::Greater,
+            Cmp::NotEqual,
+            Cmp::GreaterEqual,
+            Cmp::Always,
+            Cmp::Never,
+        ]);
+        device.set_render_state(RenderState::ZFUNC, func as u32);
+        device.set_render_state(RenderState::ZWRITEENABLE, scene % 2 == 0);
+        device.set_render_state(RenderState::COLORWRITEENABLE, rng.pick(&[0xF, 0x7, 0x5]));
+        let blend = rng.pick(&[
+            (Blend::SrcAlpha, Blend::InvSrcAlpha),
+            (Blend::One, Blend::One),
+            (Blend::DestColor, Blend::Zero),
+        ]);
+        device.set_render_state(RenderState::ALPHABLENDENABLE, scene % 5 != 4);
+        device.set_render_state(RenderState::SRCBLEND, blend.0);
+        device.set_render_state(RenderState::DESTBLEND, blend.1);
+        let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+        let mut vertices = Vec::new();
+        for _ in 0..60 {
+            let z = rng.pick(&[0.25f32, 0.5, 0.75]);
+            let words = [
+                rng.range(-4.0, 44.0).to_bits(),
+                rng.range(-4.0, 40.0).to_bits(),
+                z.to_bits(),
+                1.0f32.to_bits(),
+                rng.range(1.0, 30.0).to_bits(),
+                rng.next(),
+            ];
+            vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+        }
+        let state = device.state();
+        // A depth buffer of steps, so that tests pass and fail in runs along a row.
+        let start = || {
+            let mut t = RenderTarget::new(w, h, 0xFF40_6080, 1.0);
+            for (i, d) in t.depth.iter_mut().enumerate() {
+                *d = [0.3, 0.5, 0.6, 1.0][(i / 3) % 4];
+            }
+            t
+        };
+        let mut general = start();
+        draw_general(&mut general, state, fvf, &vertices);
+        let mut solid = start();
+        let ctx = context(&DrawSetup::new(state, fvf), &vertices);
+        assert!(ctx.flat && ctx.shading == Shading::Diffuse);
+        draw_context(&ctx, drawing(&mut solid, &mut Bins::default()));
+        assert!(solid.color == general.color, "scene {scene}: colour");
+        assert!(solid.depth == general.depth, "scene {scene}: depth");
+        assert!(
+            solid.color.iter().filter(|&&c| c != 0xFF40_6080).count() > 50 || func == Cmp::Never
+        );
+    }
+}
+
+/// Random textured-sprite scenes through the fast paths (span sampler, [`F4`] arithmetic,
+/// blend fast paths, threads) and through the general path give the same pixels.
+#[test]
+fn fast_paths_match_the_general_path_on_random_sprites() {
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    for scene in 0..24 {
+        let (w, h) = (96, 80);
+        let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+        let (tw, th) = rng.pick(&[(8, 8), (5, 3), (16, 4), (1, 1), (64, 64)]);
+        let texels = (0..tw * th).map(|_| rng.next()).collect();
+        let texture = Arc::new(Texture::from_argb(tw, th, texels).unwrap());
+        device.set_texture(0, Some(texture)).unwrap();
+        let set = |d: &mut crate::CpuDevice, s: SamplerState, v: u32| {
+            d.set_sampler_state(0, s, v).unwrap()
+        };
+        use TextureFilter::{Linear, None as NoFilter, Point};
+        let filter = rng.pick(&[Point, Linear]);
+        set(&mut device, SamplerState::MAGFILTER, filter as u32);
+        set(&mut device, SamplerState::MINFILTER, filter as u32);
+        let mip = rng.pick(&[NoFilter, Point, Linear]);
+        set(&mut device, SamplerState::MIPFILTER, mip as u32);
+        use TextureAddress::{Border, Clamp, Mirror, Wrap};
+        let address = rng.pick(&[Wrap, Clamp, Border, Mirror]);
+        set(&mut device, SamplerState::ADDRESSU, address as u32);
+        set(&mut device, SamplerState::ADDRESSV, address as u32);
+        set(&mut device, SamplerState::BORDERCOLOR, rng.next());
+        // Texture alpha, modulated alpha, diffuse alpha (twice).
+        let alpha_op = rng.pick(&[
+            TextureOp::SelectArg1,
+            TextureOp::Modulate,
+            TextureOp::SelectArg2,
+            TextureOp::Disable,
+        ]);
+        device
+            .set_texture_stage_state(0, TextureStageState::ALPHAOP, alpha_op)
+            .unwrap();
+        device.set_render_state(RenderState::POINTSPRITEENABLE, true);
+        let blend = rng.pick(&[
+            None,
+            Some((Blend::One, Blend::One)),
+            Some((Blend::SrcAlpha, Blend::InvSrcAlpha)),
+            Some((Blend::DestColor, Blend::InvSrcColor)),
+        ]);
+        device.set_render_state(RenderState::ALPHABLENDENABLE, blend.is_some());
+        if let Some((src, dst)) = blend {
+            device.set_render_state(RenderState::SRCBLEND, src);
+            device.set_render_state(RenderState::DESTBLEND, dst);
+        }
+        let depth = scene % 3 == 0;
+        device.set_render_state(RenderState::ZENABLE, depth);
+        if scene % 4 == 1 {
+            device.set_render_state(RenderState::ALPHATESTENABLE, true);
+            device.set_render_state(RenderState::ALPHAREF, rng.next() % 256);
+            device.set_render_state(RenderState::ALPHAFUNC, Cmp::Greater);
+        }
+        let count = if scene % 2 == 0 { 3000 } else { 200 };
+        let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+        let mut vertices = Vec::new();
+        for _ in 0..count {
+            let words = [
+                rng.range(-20.0, 116.0).to_bits(),
+                rng.range(-20.0, 100.0).to_bits(),
+                rng.range(0.0, 1.0).to_bits(),
+                1.0f32.to_bits(),
+                rng.range(0.5, 40.0).to_bits(),
+                rng.next(),
+            ];
+            vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+        }
+        let state = device.state();
+        let clear = |rng: &mut Rng| {
+            let mut t = RenderTarget::new(w, h, 0, 1.0);
+            t.color.iter_mut().for_each(|c| *c = rng.next());
+            t
+        };
+        let start = clear(&mut rng);
+        let mut general = start.clone();
+        draw_general(&mut general, state, fvf, &vertices);
+        let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
+        // Binned: the wide spans on every level this machine has, and none; then point
+        // after point (the sprites' own fast paths, without bins).
+        let levels = LanesLevel::available().into_iter().map(|l| (Some(l), true));
+        for (lanes, binned) in levels.chain([(None, true), (None, false)]) {
+            let mut fast = start.clone();
+            let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
+            (ctx.spans, ctx.binned) = (lanes, binned);
+            if let Some(t) = &mut ctx.textures[0] {
+                t.unpack(lanes.is_some());
+            }
+            draw_context(&ctx, drawing(&mut fast, &mut Bins::default()));
+            let setup = (setup, lanes, binned);
+            for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
+                assert_eq!(
+                    a, b,
+                    "scene {scene} {setup:?}: pixel {k}: {a:08x} vs {b:08x}"
+                );
+            }
+            assert_eq!(fast.depth, general.depth, "scene {scene} {setup:?}");
+        }
+    }
+}
