@@ -54,33 +54,49 @@ const SLOW: u32 = u32::MAX;
 /// Renders `points` (checked by [`Plot::check`]) into `out` as RGBA8 rows when the draw is one
 /// of one colour that this module counts; `Ok(false)`, with `out` untouched, when it is not.
 pub(crate) fn render(plot: &Plot, points: &Points<'_>, out: &mut [u8]) -> Result<bool, PlotError> {
-    let Colors::Constant(colour) = points.color else {
+    let Some(table) = counted(plot, points) else {
         return Ok(false);
     };
+    if out.len() != plot.width as usize * plot.height as usize * 4 {
+        return Ok(false); // write_rgba8 reports a wrong output
+    }
+    let counts = count(plot, points)?;
+    map(&table, &counts, out);
+    Ok(true)
+}
+
+/// The table `f^n(clear)` of a draw of `points` this module counts, or `None` when it does not
+/// count it (or the device must report the target size).
+pub(crate) fn counted(plot: &Plot, points: &Points<'_>) -> Option<[u32; 256]> {
+    let Colors::Constant(colour) = points.color else {
+        return None;
+    };
     if plot.texture.is_some() || points.z.is_some() {
-        return Ok(false);
+        return None;
+    }
+    let sides = 1..=MAX_TARGET_SIZE;
+    if !(sides.contains(&plot.width) && sides.contains(&plot.height)) {
+        return None;
     }
     let layout = points.layout();
     let state = plot.device_state(&layout);
+    table(&DrawSetup::new(&state, layout.fvf()), plot.clear, colour)
+}
+
+/// The number of points covering each pixel, saturating at 255, row by row, for a draw
+/// [`counted`] accepts.
+pub(crate) fn count(plot: &Plot, points: &Points<'_>) -> Result<Vec<u8>, PlotError> {
+    let layout = points.layout();
+    let state = plot.device_state(&layout);
     let setup = DrawSetup::new(&state, layout.fvf());
-    let Some(table) = table(&setup, plot.clear, colour) else {
-        return Ok(false);
-    };
-    let sides = 1..=MAX_TARGET_SIZE;
-    if !(sides.contains(&plot.width) && sides.contains(&plot.height)) {
-        return Ok(false); // the device reports the target size
-    }
     let pixels = plot.width as usize * plot.height as usize;
-    if out.len() != pixels * 4 {
-        return Ok(false); // so does write_rgba8 a wrong output
-    }
     let n = points.count()?;
     let images = rayon::current_num_threads()
         .min(n / MIN_POINTS_A_IMAGE)
         .min(1 + EXTRA_IMAGE_BYTES / pixels.max(1))
         .max(1);
     let counter = Counter::new(&setup.points, plot.axes()?, plot.width, points);
-    let counts = if images == 1 {
+    if images == 1 {
         let mut image = vec![0u8; pixels];
         let nan = (0..n)
             .step_by(TASK_POINTS)
@@ -88,39 +104,46 @@ pub(crate) fn render(plot: &Plot, points: &Points<'_>, out: &mut [u8]) -> Result
         if nan {
             return Err(columns::first_nan(points, 0));
         }
-        image
-    } else {
-        let images: Vec<Mutex<Vec<u8>>> =
-            (0..images).map(|_| Mutex::new(vec![0u8; pixels])).collect();
-        let nan = (0..n.div_ceil(TASK_POINTS))
-            .into_par_iter()
-            .map(|task| {
-                // Any free image will do: counts add in any order.
-                let mut image = images
-                    .iter()
-                    .find_map(|m| m.try_lock().ok())
-                    .unwrap_or_else(|| images[0].lock().unwrap_or_else(|e| e.into_inner()));
-                counter.task(task * TASK_POINTS, n, &mut image)
-            })
-            .reduce(|| false, |a, b| a | b);
-        if nan {
-            return Err(columns::first_nan(points, 0));
-        }
-        let mut images = images
-            .into_iter()
-            .map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()));
-        let mut sum = images.next().unwrap_or_default();
-        for image in images {
-            sum.par_chunks_mut(1 << 16)
-                .zip(image.par_chunks(1 << 16))
-                .for_each(|(s, i)| {
-                    s.iter_mut()
-                        .zip(i)
-                        .for_each(|(s, &i)| *s = s.saturating_add(i))
-                });
-        }
-        sum
-    };
+        return Ok(image);
+    }
+    let images: Vec<Mutex<Vec<u8>>> = (0..images).map(|_| Mutex::new(vec![0u8; pixels])).collect();
+    let nan = (0..n.div_ceil(TASK_POINTS))
+        .into_par_iter()
+        .map(|task| {
+            // Any free image will do: counts add in any order.
+            let mut image = images
+                .iter()
+                .find_map(|m| m.try_lock().ok())
+                .unwrap_or_else(|| images[0].lock().unwrap_or_else(|e| e.into_inner()));
+            counter.task(task * TASK_POINTS, n, &mut image)
+        })
+        .reduce(|| false, |a, b| a | b);
+    if nan {
+        return Err(columns::first_nan(points, 0));
+    }
+    let mut images = images
+        .into_iter()
+        .map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()));
+    let mut sum = images.next().unwrap_or_default();
+    for image in images {
+        add(&mut sum, &image);
+    }
+    Ok(sum)
+}
+
+/// `sum += counts`, saturating at 255: counts of two sets of points give those of both.
+pub(crate) fn add(sum: &mut [u8], counts: &[u8]) {
+    sum.par_chunks_mut(1 << 16)
+        .zip(counts.par_chunks(1 << 16))
+        .for_each(|(s, i)| {
+            s.iter_mut()
+                .zip(i)
+                .for_each(|(s, &i)| *s = s.saturating_add(i))
+        });
+}
+
+/// Maps `counts` through `table` into `out`, RGBA8 rows.
+pub(crate) fn map(table: &[u32; 256], counts: &[u8], out: &mut [u8]) {
     let rgba = table.map(argb_to_rgba8);
     out.par_chunks_mut(4 << 14)
         .zip(counts.par_chunks(1 << 14))
@@ -129,7 +152,6 @@ pub(crate) fn render(plot: &Plot, points: &Points<'_>, out: &mut [u8]) -> Result
                 .zip(c)
                 .for_each(|(px, &c)| px.copy_from_slice(&rgba[usize::from(c)]))
         });
-    Ok(true)
 }
 
 /// `f^n(clear)` for `n` in `0..=255` (see the module), or `None` when the draw's pixels are

@@ -265,6 +265,52 @@ impl Plot {
         Ok(())
     }
 
+    /// The number of `points` covering each pixel, saturating at 255, row by row, when the
+    /// draw is one of one colour whose pixels depend only on that number (`add`, `max`,
+    /// `replace`; no depth, no texture): `None` when it is not. Counts of parts of the points
+    /// combined with [`Plot::add_counts`] and mapped by [`Plot::from_counts`] give the pixels
+    /// of one draw of all of them, in any order.
+    pub fn counts(&self, points: &Points<'_>) -> Result<Option<Vec<u8>>, PlotError> {
+        self.check(points)?;
+        if counts::counted(self, points).is_none() {
+            return Ok(None);
+        }
+        counts::count(self, points).map(Some)
+    }
+
+    /// `sum += counts` pixel by pixel, saturating at 255 (see [`Plot::counts`]).
+    pub fn add_counts(sum: &mut [u8], counts: &[u8]) -> Result<(), PlotError> {
+        if sum.len() != counts.len() {
+            return Err(PlotError::Combine(format!(
+                "counts of {} and {} pixels differ in size",
+                sum.len(),
+                counts.len()
+            )));
+        }
+        counts::add(sum, counts);
+        Ok(())
+    }
+
+    /// The RGBA8 rows of a draw whose [`Plot::counts`] are `counts`; `points` (of any length)
+    /// give the draw's layout and colour.
+    pub fn from_counts(&self, points: &Points<'_>, counts: &[u8]) -> Result<Vec<u8>, PlotError> {
+        let pixels = self.width as usize * self.height as usize;
+        let Some(table) = counts::counted(self, points) else {
+            return Err(PlotError::Value("this draw is not counted".into()));
+        };
+        if counts.len() != pixels {
+            return Err(PlotError::Value(format!(
+                "{} counts for a {}x{} target",
+                counts.len(),
+                self.width,
+                self.height
+            )));
+        }
+        let mut out = vec![0u8; pixels * 4];
+        counts::map(&table, counts, &mut out);
+        Ok(out)
+    }
+
     /// Checks the target size and the scalar arguments.
     pub fn check(&self, points: &Points<'_>) -> Result<usize, PlotError> {
         if let Sizes::Constant(s) = points.size

@@ -306,3 +306,73 @@ proptest! {
         prop_assert!(full == split);
     }
 }
+
+/// The points of `c` in `rows` with one colour and constant or per-point sizes.
+fn one_colour<'a>(c: &'a Columns, rows: std::ops::Range<usize>, per_point: bool) -> Points<'a> {
+    Points {
+        size: if per_point {
+            Sizes::PerPoint(Column::F32(&c.size[rows.clone()]))
+        } else {
+            Sizes::Constant(2.5)
+        },
+        color: Colors::Constant(0x80_40_C0_10),
+        ..c.points(rows, false)
+    }
+}
+
+#[test]
+fn counts_of_parts_added_give_the_pixels_of_the_full_draw() {
+    // 20 000 points of up to 6 pixels on 16x12: many pixels are covered more than 255 times,
+    // so the saturation of the counts and of their sums is exercised.
+    let c = columns(20_000, 11, 6.0);
+    let n = c.x.len();
+    for blend in [Blend::Add, Blend::Max, Blend::Replace] {
+        for per_point in [false, true] {
+            let plot = plot(blend, 16, 12);
+            let want = plot.render(&one_colour(&c, 0..n, per_point)).unwrap();
+            let full = plot
+                .counts(&one_colour(&c, 0..n, per_point))
+                .unwrap()
+                .unwrap();
+            assert!(full.iter().filter(|&&k| k == 255).count() > 20);
+            // Parts added in reverse order: counts add in any order.
+            let mut sum = vec![0u8; 16 * 12];
+            for rows in parts(n, &[0, 3, 7_000, 7_001, 15_000]).into_iter().rev() {
+                let counts = plot
+                    .counts(&one_colour(&c, rows, per_point))
+                    .unwrap()
+                    .unwrap();
+                Plot::add_counts(&mut sum, &counts).unwrap();
+            }
+            assert_eq!(sum, full, "{blend:?} {per_point}");
+            let empty = one_colour(&c, 0..0, per_point);
+            assert_eq!(plot.from_counts(&empty, &sum).unwrap(), want, "{blend:?}");
+        }
+    }
+    // Not counted: colour columns, depth, a texture, alpha; wrong sizes are errors.
+    let plot = plot(Blend::Add, 16, 12);
+    assert_eq!(plot.counts(&c.points(0..n, false)).unwrap(), None);
+    let textured = Plot {
+        texture: Some(texture()),
+        ..plot.clone()
+    };
+    assert_eq!(textured.counts(&one_colour(&c, 0..n, false)).unwrap(), None);
+    let alpha = Plot {
+        blend: Blend::Alpha,
+        ..plot.clone()
+    };
+    assert_eq!(alpha.counts(&one_colour(&c, 0..n, false)).unwrap(), None);
+    assert!(
+        alpha
+            .from_counts(&one_colour(&c, 0..0, false), &[0; 192])
+            .is_err()
+    );
+    assert!(
+        plot.from_counts(&one_colour(&c, 0..0, false), &[0; 191])
+            .is_err()
+    );
+    assert!(Plot::add_counts(&mut [0; 3], &[0; 4]).is_err());
+    let mut s = [250u8, 0, 255];
+    Plot::add_counts(&mut s, &[10, 7, 1]).unwrap();
+    assert_eq!(s, [255, 7, 255]);
+}

@@ -13,7 +13,8 @@ seconds of the process per round (a side that uses one core shows CPU = wall):
   ``pointillist.points``, 1 M points;
 - dask: ``pointillist.dask.points`` on a two-worker ``LocalCluster`` (one thread each) against
   ``pointillist.points`` in this process, 100 M points in 20 partitions already in the
-  workers' memory; the two images are checked to be equal.
+  workers' memory; the two images are checked to be equal (every call computes: its keys are
+  fresh, so no result of an earlier call is reused).
 
 Usage (from the repository root, in a virtual environment with the package,
 datashader, matplotlib, dask[dataframe,distributed] and pandas installed)::

@@ -176,6 +176,92 @@ fn _partial<'py>(
     image(py, rgba, width, height)
 }
 
+/// The `(height, width)` uint8 counts of the points covering each pixel (`Plot::counts`), or
+/// `None` when the draw is not one of one colour that is counted.
+#[pyfunction]
+#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture))]
+#[allow(clippy::too_many_arguments)]
+fn _counts<'py>(
+    py: Python<'py>,
+    x: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
+    size: &Bound<'py, PyAny>,
+    color: &Bound<'py, PyAny>,
+    width: u32,
+    height: u32,
+    blend: &str,
+    x_range: Option<&Bound<'py, PyAny>>,
+    y_range: Option<&Bound<'py, PyAny>>,
+    clear: &Bound<'py, PyAny>,
+    texture: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let held = Held::new(x, y, None, size, color)?;
+    let points = held.points();
+    let Some(counts) = py.detach(|| plot.counts(&points)).map_err(plot_error)? else {
+        return Ok(None);
+    };
+    let array = PyArray1::from_vec(py, counts).reshape([height as usize, width as usize])?;
+    Ok(Some(array.into_any()))
+}
+
+/// A C-contiguous 2-D uint8 array argument.
+fn count_array<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, numpy::PyArray2<u8>>> {
+    let a = obj
+        .cast::<numpy::PyArray2<u8>>()
+        .map_err(|_| PyValueError::new_err(format!("{name} must be an (h, w) uint8 array")))?;
+    if !a.is_c_contiguous() {
+        return Err(PyValueError::new_err(format!(
+            "{name} must be C-contiguous"
+        )));
+    }
+    Ok(a.clone())
+}
+
+/// Adds counts `src` into `dst` (in place), saturating at 255 (`Plot::add_counts`).
+#[pyfunction]
+fn _add_counts(dst: &Bound<'_, PyAny>, src: &Bound<'_, PyAny>) -> PyResult<()> {
+    let dst = count_array("dst", dst)?;
+    let src = count_array("src", src)?;
+    let src = src.try_readonly()?;
+    let mut dst = dst.try_readwrite()?;
+    Plot::add_counts(contiguous(dst.as_slice_mut())?, contiguous(src.as_slice())?)
+        .map_err(plot_error)
+}
+
+/// The image of a counted draw from its counts (`Plot::from_counts`); `x`, `y` and a size
+/// column may be empty: they give the layout.
+#[pyfunction]
+#[pyo3(signature = (counts, x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture))]
+#[allow(clippy::too_many_arguments)]
+fn _from_counts<'py>(
+    py: Python<'py>,
+    counts: &Bound<'py, PyAny>,
+    x: &Bound<'py, PyAny>,
+    y: &Bound<'py, PyAny>,
+    size: &Bound<'py, PyAny>,
+    color: &Bound<'py, PyAny>,
+    width: u32,
+    height: u32,
+    blend: &str,
+    x_range: Option<&Bound<'py, PyAny>>,
+    y_range: Option<&Bound<'py, PyAny>>,
+    clear: &Bound<'py, PyAny>,
+    texture: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let held = Held::new(x, y, None, size, color)?;
+    let counts = count_array("counts", counts)?;
+    let counts = counts.try_readonly()?;
+    let rgba = plot
+        .from_counts(&held.points(), contiguous(counts.as_slice())?)
+        .map_err(plot_error)?;
+    image(py, rgba, width, height)
+}
+
 /// A slice of an array checked to be C-contiguous, or the error saying it is not.
 pub(crate) fn contiguous<T>(r: Result<T, numpy::AsSliceError>) -> PyResult<T> {
     r.map_err(|_| PyValueError::new_err("the array must be C-contiguous and aligned"))
@@ -371,6 +457,9 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lanes, m)?)?;
     m.add_function(wrap_pyfunction!(_partial, m)?)?;
     m.add_function(wrap_pyfunction!(_combine, m)?)?;
+    m.add_function(wrap_pyfunction!(_counts, m)?)?;
+    m.add_function(wrap_pyfunction!(_add_counts, m)?)?;
+    m.add_function(wrap_pyfunction!(_from_counts, m)?)?;
     m.add_function(wrap_pyfunction!(_finish, m)?)?;
     m.add_function(wrap_pyfunction!(_tiles, m)?)?;
     m.add_function(wrap_pyfunction!(_bin, m)?)?;

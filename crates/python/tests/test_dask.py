@@ -116,3 +116,53 @@ def test_errors_name_the_argument(client):
         pointillist.dask.points(bdf, width=8, height=8, client=client)
     with pytest.raises(ValueError, match=r"partition 1: x\[10\] is NaN"):
         pointillist.dask.points(bdf, width=8, height=8, blend="alpha", client=client)
+
+
+@pytest.mark.parametrize("blend", ["add", "max", "replace"])
+@pytest.mark.parametrize("size", [2.5, "s"])
+def test_counted_draws_of_one_colour_equal_one_sequential_draw(client, blend, size):
+    # One colour, no depth, no texture: partitions send per-pixel counts, added and mapped on
+    # the client. 60 000 points crowded on 40x30 cover the middle more than 255 times.
+    pdf, df = frame(60_000, 5, 7)
+    # A small colour for "add", so counts up to about 70 give colours of their own.
+    colour = 0x01030507 if blend == "add" else 0x80C04010
+    got, want = both(
+        pdf, df.persist(), client, size=size, color=colour, blend=blend, width=40,
+        height=30, x_range=(0, 1), y_range=(0, 1), clear=0xFF304050,
+    )
+    assert isinstance(got, pointillist.Image)
+    assert np.array_equal(got, want)
+    assert len(np.unique(want.reshape(-1, 4), axis=0)) > (30 if blend == "add" else 1)
+    counts = pointillist._native._counts(
+        pdf["x"].to_numpy(), pdf["y"].to_numpy(), size=2.5, color=1, width=40, height=30,
+        blend="add", x_range=(0, 1), y_range=(0, 1), clear=0, texture=None,
+    )
+    assert counts.dtype == np.uint8 and counts.shape == (30, 40)
+    assert (counts == 255).sum() > 50 and (counts == 0).sum() > 50
+
+
+def test_partitions_are_grouped_by_the_worker_holding_them(client):
+    _, df = frame(1000, 6, 9)
+    df = df.persist()
+    distributed.wait(df)
+    groups = pointillist.dask._by_worker(df, client)
+    assert sorted(p for g in groups for p in g) == list(range(9))
+    who = client.who_has(client.futures_of(df))
+    holder = {f.key[1]: who[f.key][0] for f in client.futures_of(df)}
+    assert len(groups) == 2
+    for g in groups:
+        assert len({holder[p] for p in g}) == 1
+    # Not persisted: one group, in order.
+    assert pointillist.dask._by_worker(frame(100, 6, 3)[1], client) == [[0, 1, 2]]
+
+
+def test_repeated_calls_recompute(client):
+    # Every call has fresh keys: a second call is not answered by the first one's result.
+    pdf, df = frame(5000, 7, 3)
+    kw = dict(width=16, height=16, x_range=(0, 1), y_range=(0, 1))
+    with distributed.get_task_stream(client=client) as ts:
+        a = pointillist.dask.points(df, client=client, **kw)
+        b = pointillist.dask.points(df, client=client, **kw)
+    assert np.array_equal(a, b)
+    counted = [t for t in ts.data if str(t["key"]).startswith("_count-")]
+    assert len(counted) == 6

@@ -4,13 +4,19 @@
 cluster and returns the same array, bit for bit, as :func:`pointillist.points` on all the rows
 in order. Two strategies, chosen by the blend:
 
+- **Draws of one colour** ("add", "max" or "replace" with one colour, no depth, no texture)
+  give each pixel a colour that depends only on how many points cover it. Each partition
+  counts its points per pixel (one byte a pixel, saturating at 255, where every count from
+  255 up gives the same colour); the counts are added, first among the partitions each worker
+  holds, and mapped to colours once, on the client. Addition commutes, so this equals drawing
+  every row in order.
 - **"add" and "max" without depth** commute. Each partition is drawn on its worker onto a zero
   target; the partial images are combined with the blend's exact operator (8-bit saturating
   addition, or the maximum, channel by channel) in a tree of ``split_every`` images a node,
-  and the clear colour is combined once at the end. Saturating addition of non-negative
-  numbers is associative and commutative, so this equals drawing every row in order onto the
-  cleared target.
-- **"alpha", "replace", and any draw with depth** depend on the order of the points. The
+  first among the partitions each worker holds, and the clear colour is combined once at the
+  end. Saturating addition of non-negative numbers is associative and commutative, so this
+  equals drawing every row in order onto the cleared target.
+- **"alpha", "replace" (of several colours), and any draw with depth** depend on the order of the points. The
   target is cut into screen tiles (sort-first): each partition sends each of its points, as
   its vertex with its index, to every tile its square overlaps (decided by the same per-point
   rule the draw uses); each tile draws its points in index order on a target whose viewport
@@ -32,6 +38,8 @@ Example, on a real cluster::
     img = pointillist.dask.points(df, x="x", y="y", color="c", width=2000, height=2000,
                                   x_range=(0, 1), y_range=(0, 1), blend="alpha")
 """
+
+import functools
 
 import numpy
 
@@ -83,7 +91,7 @@ def points(
     tile_size : int or (int, int)
         The side of the screen tiles of the order-dependent strategy, in pixels.
     split_every : int
-        Partial images combined per node of the reduction tree ("add" and "max").
+        Partial images (or counts) combined per node of the reduction tree.
     client : dask.distributed.Client or None
         The client to compute on; by default the active one (``distributed.default_client``),
         or Dask's local scheduler when there is none.
@@ -133,37 +141,59 @@ def points(
         z=None,
         **common,
     )
+    client = _client(client)
     parts = df.to_delayed()
-    if blend in ("add", "max") and z is None:
-        images = [
-            dask.delayed(_partial, pure=True)(part, p, columns, constants, common, texture)
-            for p, part in enumerate(parts)
+    # Fresh keys every call (pure=False): a call is never answered by the result of an
+    # earlier one that the scheduler has not yet released.
+    task = lambda fn, **kw: dask.delayed(fn, pure=False, **kw)  # noqa: E731
+    layout_args = _layout_args(constants, columns, common, clear, texture)
+    counted = (
+        z is None
+        and constants["color"] is not None
+        and _native._counts(*layout_args[:2], **layout_args[2]) is not None
+    )
+    if counted:
+        groups = [
+            [task(_count)(parts[p], p, columns, constants, common, clear, texture) for p in g]
+            for g in _by_worker(df, client)
         ]
-        while len(images) > 1:
-            images = [
-                dask.delayed(_combine, pure=True)(images[i : i + split_every], blend)
-                for i in range(0, len(images), split_every)
-            ]
-        result = dask.delayed(_finish, pure=True)(images[0], blend, clear)
+        counts = _reduce(task, groups, _add_counts, split_every)
+        total = numpy.asarray(_compute(counts, client))
+        return _native._from_counts(total, *layout_args[:2], **layout_args[2]).view(Image)
+    if blend in ("add", "max") and z is None:
+        groups = [
+            [task(_partial)(parts[p], p, columns, constants, common, texture) for p in g]
+            for g in _by_worker(df, client)
+        ]
+        images = _reduce(task, groups, functools.partial(_combine, blend=blend), split_every)
+        result = task(_finish)(images, blend, clear)
     else:
         size_const = constants["size"]
         tiling = dict(common, tile_width=int(tw), tile_height=int(th))
         binned = [
-            dask.delayed(_bin, pure=True, nout=len(rects))(part, p, columns, constants, tiling)
+            task(_bin, nout=len(rects))(part, p, columns, constants, tiling)
             for p, part in enumerate(parts)
         ]
         layout = dict(size=None if size_const is None else float(size_const), depth=z is not None)
         tiles = [
-            dask.delayed(_tile, pure=True)(
-                [b[t] for b in binned], rect, layout, common, clear, texture
-            )
+            task(_tile)([b[t] for b in binned], rect, layout, common, clear, texture)
             for t, rect in enumerate(rects)
         ]
-        result = dask.delayed(_assemble, pure=True)(tiles, rects, width, height)
+        result = task(_assemble)(tiles, rects, width, height)
     return _compute(result, client).view(Image)
 
 
-def _compute(result, client):
+def _layout_args(constants, columns, common, clear, texture):
+    """Empty columns with the draw's layout, and the keywords, for ``_native._counts`` and
+    ``_native._from_counts``."""
+    empty = numpy.zeros(0, numpy.float32)
+    size = empty if "size" in columns else constants["size"]
+    kw = dict(common, size=size, color=constants["color"], clear=clear, texture=texture)
+    return empty, empty, kw
+
+
+def _client(client):
+    """``client``, else the active ``dask.distributed`` client, else None (local scheduler)."""
     if client is None:
         try:
             from distributed import default_client
@@ -171,6 +201,45 @@ def _compute(result, client):
             client = default_client()
         except (ImportError, ValueError):
             client = None
+    return client
+
+
+def _by_worker(df, client):
+    """The partition indices of ``df`` grouped by the worker that holds them (in order within
+    a group), where ``df`` is persisted on ``client``; otherwise one group of them all."""
+    n = df.npartitions
+    where = {}
+    if client is not None:
+        try:
+            # A persisted collection's futures: one a partition, keyed (name, partition).
+            futures = client.futures_of(df)
+            if sorted(f.key[1] for f in futures) == list(range(n)):
+                who = client.who_has(futures)
+                where = {f.key[1]: who[f.key][0] for f in futures if who.get(f.key)}
+        except Exception:  # any failure only loses locality
+            where = {}
+    groups = {}
+    for p in range(n):
+        groups.setdefault(where.get(p), []).append(p)
+    return list(groups.values())
+
+
+def _reduce(task, groups, combine, split_every):
+    """One task combining every item of ``groups`` (lists of tasks): a tree of ``split_every``
+    items a node within each group (whose items are on one worker), then across groups."""
+
+    def tree(items):
+        while len(items) > 1:
+            items = [
+                task(combine)(items[i : i + split_every])
+                for i in range(0, len(items), split_every)
+            ]
+        return items[0]
+
+    return tree([tree(g) for g in groups if g])
+
+
+def _compute(result, client):
     if client is None:
         return result.compute()
     return client.compute(result).result()
@@ -196,6 +265,24 @@ def _partial(part, p, columns, constants, common, texture):
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return numpy.asarray(image)
+
+
+def _count(part, p, columns, constants, common, clear, texture):
+    x, y, _, size, color = _columns(part, p, columns, constants)
+    try:
+        counts = _native._counts(
+            x, y, size=size, color=color, clear=clear, texture=texture, **common
+        )
+    except (ValueError, TypeError) as e:
+        raise _named(p, e) from None
+    return counts
+
+
+def _add_counts(counts):
+    out = numpy.array(counts[0])
+    for c in counts[1:]:
+        _native._add_counts(out, c)
+    return out
 
 
 def _combine(images, blend):
