@@ -12,12 +12,15 @@
 //! each down the rows: the horizontal lerps of the two plane rows a pixel row reads (from
 //! consecutive entries with two loads, or gathered) stay in registers while the next pixel rows
 //! read them, and each pixel is then the vertical lerp, the modulate, the 8-bit quantization,
-//! the alpha and depth tests, the blend and the channel mask.
+//! the alpha and depth tests, the blend and the channel mask. Point sampling reads whole
+//! texels, so its modulate and quantization are one integer product of the packed bytes
+//! ([`Lanes::modulate`]).
 //! A sprite whose indices leave the margin (edges snapped outside the square) is left to the
 //! per-pixel fill.
 //!
 //! Contract: the arithmetic is core's sampler, MODULATE stage and blend, operation for
-//! operation, so the pixels are the per-pixel fill's and the core reference's bit for bit on
+//! operation, or an integer formula tested equal to it for every input ([`Lanes::modulate`],
+//! [`Lanes::source_alpha`]), so the pixels are the per-pixel fill's and the core reference's bit for bit on
 //! every level; the tests compare each level the machine has with the core reference.
 
 #![allow(unsafe_code)]
