@@ -472,6 +472,17 @@ mod x86 {
     use pointillist_core::states::Cmp;
     use std::arch::x86_64::*;
 
+    /// `unsafe { ... }` in the operations of [`Avx2`] and [`Avx512`].
+    macro_rules! with_features {
+        ($($body:tt)*) => {
+            // SAFETY: a value of `Avx2` or `Avx512` exists only after
+            // `is_x86_feature_detected!` saw its features (its field is private and `new`
+            // checks), so the CPU runs the instructions; loads and stores go through slices
+            // whose length was checked first, and gathers clamp their indices into the slice.
+            unsafe { $($body)* }
+        };
+    }
+
     /// Rows of at most this many D3DCOLORs [`Avx2`]'s `gather_u` reads from registers (a
     /// 16x16 level's row with its margin takes three).
     const REGISTER_GATHER_U: usize = 24;
@@ -509,10 +520,7 @@ mod x86 {
         }
     }
 
-    // SAFETY (every `unsafe` block of this impl): a value of `Avx2` exists only after
-    // `is_x86_feature_detected!("avx2")` (its field is private and `Avx2::new` checks), so the
-    // CPU runs the AVX2 instructions; loads and stores go through slices whose length was
-    // checked first, and gathers clamp their indices into the slice.
+    // Every `unsafe` block of this impl is `with_features!`, whose SAFETY line holds here.
     impl Lanes for Avx2 {
         const N: usize = 8;
         type F = __m256;
@@ -521,54 +529,54 @@ mod x86 {
 
         #[inline(always)]
         fn splat(self, x: f32) -> __m256 {
-            unsafe { _mm256_set1_ps(x) }
+            with_features! { _mm256_set1_ps(x) }
         }
         #[inline(always)]
         fn splat_u(self, x: u32) -> __m256i {
-            unsafe { _mm256_set1_epi32(x as i32) }
+            with_features! { _mm256_set1_epi32(x as i32) }
         }
         #[inline(always)]
         fn load(self, s: &[f32]) -> __m256 {
             let s = &s[..8];
-            unsafe { _mm256_loadu_ps(s.as_ptr()) }
+            with_features! { _mm256_loadu_ps(s.as_ptr()) }
         }
         #[inline(always)]
         fn load_u(self, s: &[u32]) -> __m256i {
             let s = &s[..8];
-            unsafe { _mm256_loadu_si256(s.as_ptr().cast()) }
+            with_features! { _mm256_loadu_si256(s.as_ptr().cast()) }
         }
         #[inline(always)]
         fn store(self, s: &mut [f32], v: __m256) {
             let s = &mut s[..8];
-            unsafe { _mm256_storeu_ps(s.as_mut_ptr(), v) }
+            with_features! { _mm256_storeu_ps(s.as_mut_ptr(), v) }
         }
         #[inline(always)]
         fn store_u(self, s: &mut [u32], v: __m256i) {
             let s = &mut s[..8];
-            unsafe { _mm256_storeu_si256(s.as_mut_ptr().cast(), v) }
+            with_features! { _mm256_storeu_si256(s.as_mut_ptr().cast(), v) }
         }
         #[inline(always)]
         fn load_part(self, s: &[f32]) -> __m256 {
             // Lanes past the slice are masked off: maskload reads nothing there.
-            unsafe { _mm256_maskload_ps(s.as_ptr(), first8(s.len())) }
+            with_features! { _mm256_maskload_ps(s.as_ptr(), first8(s.len())) }
         }
         #[inline(always)]
         fn load_u_part(self, s: &[u32]) -> __m256i {
-            unsafe { _mm256_maskload_epi32(s.as_ptr().cast(), first8(s.len())) }
+            with_features! { _mm256_maskload_epi32(s.as_ptr().cast(), first8(s.len())) }
         }
         #[inline(always)]
         fn store_part(self, s: &mut [f32], v: __m256) {
-            unsafe { _mm256_maskstore_ps(s.as_mut_ptr(), first8(s.len()), v) }
+            with_features! { _mm256_maskstore_ps(s.as_mut_ptr(), first8(s.len()), v) }
         }
         #[inline(always)]
         fn store_u_part(self, s: &mut [u32], v: __m256i) {
-            unsafe { _mm256_maskstore_epi32(s.as_mut_ptr().cast(), first8(s.len()), v) }
+            with_features! { _mm256_maskstore_epi32(s.as_mut_ptr().cast(), first8(s.len()), v) }
         }
         const REGISTER_GATHER: usize = 8;
         #[inline(always)]
         fn gather(self, row: &[f32], idx: __m256i) -> __m256 {
             assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
-            unsafe {
+            with_features! {
                 let idx = _mm256_min_epu32(idx, _mm256_set1_epi32(row.len() as i32 - 1));
                 if row.len() <= 8 {
                     return _mm256_permutevar8x32_ps(self.load_part(row), idx);
@@ -579,7 +587,7 @@ mod x86 {
         #[inline(always)]
         fn gather_u(self, row: &[u32], idx: __m256i) -> __m256i {
             assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
-            unsafe {
+            with_features! {
                 let idx = _mm256_min_epu32(idx, _mm256_set1_epi32(row.len() as i32 - 1));
                 if row.len() <= REGISTER_GATHER_U {
                     // `vpermd` reads the low three bits of each index: one permute per eight
@@ -603,48 +611,48 @@ mod x86 {
         }
         #[inline(always)]
         fn add(self, a: __m256, b: __m256) -> __m256 {
-            unsafe { _mm256_add_ps(a, b) }
+            with_features! { _mm256_add_ps(a, b) }
         }
         #[inline(always)]
         fn sub(self, a: __m256, b: __m256) -> __m256 {
-            unsafe { _mm256_sub_ps(a, b) }
+            with_features! { _mm256_sub_ps(a, b) }
         }
         #[inline(always)]
         fn mul(self, a: __m256, b: __m256) -> __m256 {
-            unsafe { _mm256_mul_ps(a, b) }
+            with_features! { _mm256_mul_ps(a, b) }
         }
         #[inline(always)]
         fn div(self, a: __m256, b: __m256) -> __m256 {
-            unsafe { _mm256_div_ps(a, b) }
+            with_features! { _mm256_div_ps(a, b) }
         }
         #[inline(always)]
         fn min(self, a: __m256, b: __m256) -> __m256 {
-            unsafe { _mm256_min_ps(a, b) }
+            with_features! { _mm256_min_ps(a, b) }
         }
         #[inline(always)]
         fn max(self, a: __m256, b: __m256) -> __m256 {
-            unsafe { _mm256_max_ps(a, b) }
+            with_features! { _mm256_max_ps(a, b) }
         }
         #[inline(always)]
         fn sqrt(self, a: __m256) -> __m256 {
-            unsafe { _mm256_sqrt_ps(a) }
+            with_features! { _mm256_sqrt_ps(a) }
         }
         #[inline(always)]
         fn floor(self, a: __m256) -> __m256 {
-            unsafe { _mm256_floor_ps(a) }
+            with_features! { _mm256_floor_ps(a) }
         }
         #[inline(always)]
         fn ceil(self, a: __m256) -> __m256 {
-            unsafe { _mm256_ceil_ps(a) }
+            with_features! { _mm256_ceil_ps(a) }
         }
         #[inline(always)]
         fn bits_as_float(self, u: __m256i) -> __m256 {
-            unsafe { _mm256_castsi256_ps(u) }
+            with_features! { _mm256_castsi256_ps(u) }
         }
         #[inline(always)]
         fn gather_bytes(self, bytes: &[u8], offsets: __m256i) -> __m256i {
             assert!(bytes.len() >= 4 && bytes.len() <= i32::MAX as usize);
-            unsafe {
+            with_features! {
                 let last = _mm256_set1_epi32(bytes.len() as i32 - 4);
                 let offsets = _mm256_min_epu32(offsets, last);
                 _mm256_i32gather_epi32::<1>(bytes.as_ptr().cast(), offsets)
@@ -652,23 +660,23 @@ mod x86 {
         }
         #[inline(always)]
         fn int_to_float(self, i: __m256i) -> __m256 {
-            unsafe { _mm256_cvtepi32_ps(i) }
+            with_features! { _mm256_cvtepi32_ps(i) }
         }
         #[inline(always)]
         fn float_to_int(self, x: __m256) -> __m256i {
-            unsafe { _mm256_cvttps_epi32(x) }
+            with_features! { _mm256_cvttps_epi32(x) }
         }
         #[inline(always)]
         fn add_u(self, a: __m256i, b: __m256i) -> __m256i {
-            unsafe { _mm256_add_epi32(a, b) }
+            with_features! { _mm256_add_epi32(a, b) }
         }
         #[inline(always)]
         fn bits(self, m: __m256i) -> u32 {
-            unsafe { _mm256_movemask_ps(_mm256_castsi256_ps(m)) as u32 }
+            with_features! { _mm256_movemask_ps(_mm256_castsi256_ps(m)) as u32 }
         }
         #[inline(always)]
         fn channel<const SHIFT: u32>(self, px: __m256i) -> __m256 {
-            unsafe {
+            with_features! {
                 let byte = _mm256_and_si256(
                     _mm256_srlv_epi32(px, _mm256_set1_epi32(SHIFT as i32)),
                     _mm256_set1_epi32(0xFF),
@@ -680,7 +688,7 @@ mod x86 {
         }
         #[inline(always)]
         fn round_unit(self, v: __m256) -> __m256i {
-            unsafe {
+            with_features! {
                 // Truncate, then add one where `x - trunc(x) >= 0.5` (the mask is -1). No clamp:
                 // `x` is above -0.5, where truncation gives 0 and the fraction is negative, so no
                 // lane rounds up to 1.
@@ -694,7 +702,7 @@ mod x86 {
         #[inline(always)]
         fn pack(self, [b, g, r, a]: [__m256i; 4]) -> __m256i {
             // Every lane is a byte, so the shifted channels do not overlap.
-            unsafe {
+            with_features! {
                 _mm256_or_si256(
                     _mm256_or_si256(b, _mm256_slli_epi32::<8>(g)),
                     _mm256_or_si256(_mm256_slli_epi32::<16>(r), _mm256_slli_epi32::<24>(a)),
@@ -707,7 +715,7 @@ mod x86 {
             // `510 v` is twice the rounded `255 v` exactly, and `floor((n + f + 1) / 2)` is
             // `floor((n + 1) / 2)` for an integer `n` and `0 <= f < 1`. The halving and packing
             // are done on 16-bit lanes, two channels a register.
-            unsafe {
+            with_features! {
                 let twice = _mm256_set1_ps(510.0);
                 let n = |v: __m256| _mm256_cvttps_epi32(_mm256_mul_ps(v, twice));
                 let one = _mm256_set1_epi16(1);
@@ -722,16 +730,16 @@ mod x86 {
         }
         #[inline(always)]
         fn alpha_bytes(self, px: __m256i) -> __m256i {
-            unsafe { _mm256_srli_epi32::<24>(px) }
+            with_features! { _mm256_srli_epi32::<24>(px) }
         }
         #[inline(always)]
         fn adds_u8(self, a: __m256i, b: __m256i) -> __m256i {
-            unsafe { _mm256_adds_epu8(a, b) }
+            with_features! { _mm256_adds_epu8(a, b) }
         }
         #[inline(always)]
         fn source_alpha(self, src: __m256i, dst: __m256i) -> __m256i {
             // Channels widened to 16 bits, two pixels per half of each 128-bit lane.
-            unsafe {
+            with_features! {
                 let zero = _mm256_setzero_si256();
                 let alpha = _mm256_set_epi64x(
                     ALPHA_WORDS[1],
@@ -769,7 +777,7 @@ mod x86 {
         #[inline(always)]
         fn modulate(self, a: __m256i, b: __m256i) -> __m256i {
             // Channels widened to 16 bits; `t = a * b + 128`, then `(t + t / 256) / 256`.
-            unsafe {
+            with_features! {
                 let (zero, half) = (_mm256_setzero_si256(), _mm256_set1_epi16(128));
                 let product = |x: __m256i, y: __m256i| {
                     let t = _mm256_add_epi16(_mm256_mullo_epi16(x, y), half);
@@ -782,14 +790,14 @@ mod x86 {
         }
         #[inline(always)]
         fn write_masked(self, mask: u32, new: __m256i, old: __m256i) -> __m256i {
-            unsafe {
+            with_features! {
                 let m = _mm256_set1_epi32(mask as i32);
                 _mm256_or_si256(_mm256_and_si256(new, m), _mm256_andnot_si256(m, old))
             }
         }
         #[inline(always)]
         fn cmp(self, func: Cmp, a: __m256, b: __m256) -> __m256i {
-            unsafe {
+            with_features! {
                 let never = _mm256_setzero_si256();
                 let always = _mm256_set1_epi32(-1);
                 macro_rules! cmp {
@@ -812,7 +820,7 @@ mod x86 {
         #[inline(always)]
         fn cmp_u(self, func: Cmp, a: __m256i, b: __m256i) -> __m256i {
             // Bytes: signed 32-bit comparisons order them as unsigned ones do.
-            unsafe {
+            with_features! {
                 let not = |m: __m256i| _mm256_xor_si256(m, _mm256_set1_epi32(-1));
                 match func {
                     Cmp::Never => _mm256_setzero_si256(),
@@ -828,19 +836,19 @@ mod x86 {
         }
         #[inline(always)]
         fn and(self, a: __m256i, b: __m256i) -> __m256i {
-            unsafe { _mm256_and_si256(a, b) }
+            with_features! { _mm256_and_si256(a, b) }
         }
         #[inline(always)]
         fn all(self) -> __m256i {
-            unsafe { _mm256_set1_epi32(-1) }
+            with_features! { _mm256_set1_epi32(-1) }
         }
         #[inline(always)]
         fn select(self, m: __m256i, a: __m256i, b: __m256i) -> __m256i {
-            unsafe { _mm256_blendv_epi8(b, a, m) }
+            with_features! { _mm256_blendv_epi8(b, a, m) }
         }
         #[inline(always)]
         fn select_f(self, m: __m256i, a: __m256, b: __m256) -> __m256 {
-            unsafe { _mm256_blendv_ps(b, a, _mm256_castsi256_ps(m)) }
+            with_features! { _mm256_blendv_ps(b, a, _mm256_castsi256_ps(m)) }
         }
     }
 
@@ -872,10 +880,7 @@ mod x86 {
     /// Round toward negative infinity without exceptions, for the embedded-rounding forms.
     const DOWN: i32 = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
 
-    // SAFETY (every `unsafe` block of this impl): a value of `Avx512` exists only after
-    // `is_x86_feature_detected!` saw AVX-512 F and BW (its field is private and
-    // `Avx512::new` checks), so the CPU runs the instructions; loads and stores go through
-    // slices whose length was checked first, and gathers clamp their indices into the slice.
+    // Every `unsafe` block of this impl is `with_features!`, whose SAFETY line holds here.
     impl Lanes for Avx512 {
         const N: usize = 16;
         type F = __m512;
@@ -884,54 +889,54 @@ mod x86 {
 
         #[inline(always)]
         fn splat(self, x: f32) -> __m512 {
-            unsafe { _mm512_set1_ps(x) }
+            with_features! { _mm512_set1_ps(x) }
         }
         #[inline(always)]
         fn splat_u(self, x: u32) -> __m512i {
-            unsafe { _mm512_set1_epi32(x as i32) }
+            with_features! { _mm512_set1_epi32(x as i32) }
         }
         #[inline(always)]
         fn load(self, s: &[f32]) -> __m512 {
             let s = &s[..16];
-            unsafe { _mm512_loadu_ps(s.as_ptr()) }
+            with_features! { _mm512_loadu_ps(s.as_ptr()) }
         }
         #[inline(always)]
         fn load_u(self, s: &[u32]) -> __m512i {
             let s = &s[..16];
-            unsafe { _mm512_loadu_si512(s.as_ptr().cast()) }
+            with_features! { _mm512_loadu_si512(s.as_ptr().cast()) }
         }
         #[inline(always)]
         fn store(self, s: &mut [f32], v: __m512) {
             let s = &mut s[..16];
-            unsafe { _mm512_storeu_ps(s.as_mut_ptr(), v) }
+            with_features! { _mm512_storeu_ps(s.as_mut_ptr(), v) }
         }
         #[inline(always)]
         fn store_u(self, s: &mut [u32], v: __m512i) {
             let s = &mut s[..16];
-            unsafe { _mm512_storeu_si512(s.as_mut_ptr().cast(), v) }
+            with_features! { _mm512_storeu_si512(s.as_mut_ptr().cast(), v) }
         }
         #[inline(always)]
         fn load_part(self, s: &[f32]) -> __m512 {
             // Lanes past the slice are masked off: nothing is read there.
-            unsafe { _mm512_maskz_loadu_ps(first16(s.len()), s.as_ptr()) }
+            with_features! { _mm512_maskz_loadu_ps(first16(s.len()), s.as_ptr()) }
         }
         #[inline(always)]
         fn load_u_part(self, s: &[u32]) -> __m512i {
-            unsafe { _mm512_maskz_loadu_epi32(first16(s.len()), s.as_ptr().cast()) }
+            with_features! { _mm512_maskz_loadu_epi32(first16(s.len()), s.as_ptr().cast()) }
         }
         #[inline(always)]
         fn store_part(self, s: &mut [f32], v: __m512) {
-            unsafe { _mm512_mask_storeu_ps(s.as_mut_ptr(), first16(s.len()), v) }
+            with_features! { _mm512_mask_storeu_ps(s.as_mut_ptr(), first16(s.len()), v) }
         }
         #[inline(always)]
         fn store_u_part(self, s: &mut [u32], v: __m512i) {
-            unsafe { _mm512_mask_storeu_epi32(s.as_mut_ptr().cast(), first16(s.len()), v) }
+            with_features! { _mm512_mask_storeu_epi32(s.as_mut_ptr().cast(), first16(s.len()), v) }
         }
         const REGISTER_GATHER: usize = 32;
         #[inline(always)]
         fn gather(self, row: &[f32], idx: __m512i) -> __m512 {
             assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
-            unsafe {
+            with_features! {
                 let idx = _mm512_min_epu32(idx, _mm512_set1_epi32(row.len() as i32 - 1));
                 if row.len() <= 16 {
                     return _mm512_permutexvar_ps(idx, self.load_part(row));
@@ -946,7 +951,7 @@ mod x86 {
         #[inline(always)]
         fn gather_u(self, row: &[u32], idx: __m512i) -> __m512i {
             assert!(!row.is_empty() && row.len() <= i32::MAX as usize);
-            unsafe {
+            with_features! {
                 let idx = _mm512_min_epu32(idx, _mm512_set1_epi32(row.len() as i32 - 1));
                 if row.len() <= 16 {
                     return _mm512_permutexvar_epi32(idx, self.load_u_part(row));
@@ -961,48 +966,48 @@ mod x86 {
         }
         #[inline(always)]
         fn add(self, a: __m512, b: __m512) -> __m512 {
-            unsafe { _mm512_add_ps(a, b) }
+            with_features! { _mm512_add_ps(a, b) }
         }
         #[inline(always)]
         fn sub(self, a: __m512, b: __m512) -> __m512 {
-            unsafe { _mm512_sub_ps(a, b) }
+            with_features! { _mm512_sub_ps(a, b) }
         }
         #[inline(always)]
         fn mul(self, a: __m512, b: __m512) -> __m512 {
-            unsafe { _mm512_mul_ps(a, b) }
+            with_features! { _mm512_mul_ps(a, b) }
         }
         #[inline(always)]
         fn div(self, a: __m512, b: __m512) -> __m512 {
-            unsafe { _mm512_div_ps(a, b) }
+            with_features! { _mm512_div_ps(a, b) }
         }
         #[inline(always)]
         fn min(self, a: __m512, b: __m512) -> __m512 {
-            unsafe { _mm512_min_ps(a, b) }
+            with_features! { _mm512_min_ps(a, b) }
         }
         #[inline(always)]
         fn max(self, a: __m512, b: __m512) -> __m512 {
-            unsafe { _mm512_max_ps(a, b) }
+            with_features! { _mm512_max_ps(a, b) }
         }
         #[inline(always)]
         fn sqrt(self, a: __m512) -> __m512 {
-            unsafe { _mm512_sqrt_ps(a) }
+            with_features! { _mm512_sqrt_ps(a) }
         }
         #[inline(always)]
         fn floor(self, a: __m512) -> __m512 {
-            unsafe { _mm512_roundscale_ps::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(a) }
+            with_features! { _mm512_roundscale_ps::<{ _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC }>(a) }
         }
         #[inline(always)]
         fn ceil(self, a: __m512) -> __m512 {
-            unsafe { _mm512_roundscale_ps::<{ _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC }>(a) }
+            with_features! { _mm512_roundscale_ps::<{ _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC }>(a) }
         }
         #[inline(always)]
         fn bits_as_float(self, u: __m512i) -> __m512 {
-            unsafe { _mm512_castsi512_ps(u) }
+            with_features! { _mm512_castsi512_ps(u) }
         }
         #[inline(always)]
         fn gather_bytes(self, bytes: &[u8], offsets: __m512i) -> __m512i {
             assert!(bytes.len() >= 4 && bytes.len() <= i32::MAX as usize);
-            unsafe {
+            with_features! {
                 let last = _mm512_set1_epi32(bytes.len() as i32 - 4);
                 let offsets = _mm512_min_epu32(offsets, last);
                 _mm512_i32gather_epi32::<1>(offsets, bytes.as_ptr().cast())
@@ -1010,15 +1015,15 @@ mod x86 {
         }
         #[inline(always)]
         fn int_to_float(self, i: __m512i) -> __m512 {
-            unsafe { _mm512_cvtepi32_ps(i) }
+            with_features! { _mm512_cvtepi32_ps(i) }
         }
         #[inline(always)]
         fn float_to_int(self, x: __m512) -> __m512i {
-            unsafe { _mm512_cvttps_epi32(x) }
+            with_features! { _mm512_cvttps_epi32(x) }
         }
         #[inline(always)]
         fn add_u(self, a: __m512i, b: __m512i) -> __m512i {
-            unsafe { _mm512_add_epi32(a, b) }
+            with_features! { _mm512_add_epi32(a, b) }
         }
         #[inline(always)]
         fn bits(self, m: __mmask16) -> u32 {
@@ -1026,7 +1031,7 @@ mod x86 {
         }
         #[inline(always)]
         fn channel<const SHIFT: u32>(self, px: __m512i) -> __m512 {
-            unsafe {
+            with_features! {
                 let byte = if SHIFT == 24 {
                     _mm512_srli_epi32::<SHIFT>(px)
                 } else {
@@ -1037,7 +1042,7 @@ mod x86 {
         }
         #[inline(always)]
         fn round_unit(self, v: __m512) -> __m512i {
-            unsafe {
+            with_features! {
                 // Round half up is `floor(x + 0.5)` of the exact sum. The sum rounded toward
                 // negative infinity has the same floor: it is the largest float not above the
                 // exact sum, and the integer `floor(x + 0.5)` is such a float. No clamp: `x +
@@ -1050,7 +1055,7 @@ mod x86 {
         #[inline(always)]
         fn pack(self, [b, g, r, a]: [__m512i; 4]) -> __m512i {
             // Every lane is a byte, so the shifted channels do not overlap.
-            unsafe {
+            with_features! {
                 _mm512_or_si512(
                     _mm512_or_si512(b, _mm512_slli_epi32::<8>(g)),
                     _mm512_or_si512(_mm512_slli_epi32::<16>(r), _mm512_slli_epi32::<24>(a)),
@@ -1059,16 +1064,16 @@ mod x86 {
         }
         #[inline(always)]
         fn alpha_bytes(self, px: __m512i) -> __m512i {
-            unsafe { _mm512_srli_epi32::<24>(px) }
+            with_features! { _mm512_srli_epi32::<24>(px) }
         }
         #[inline(always)]
         fn adds_u8(self, a: __m512i, b: __m512i) -> __m512i {
-            unsafe { _mm512_adds_epu8(a, b) }
+            with_features! { _mm512_adds_epu8(a, b) }
         }
         #[inline(always)]
         fn source_alpha(self, src: __m512i, dst: __m512i) -> __m512i {
             // As the AVX2 level's, on four 128-bit lanes.
-            unsafe {
+            with_features! {
                 let zero = _mm512_setzero_si512();
                 let [w0, w1] = ALPHA_WORDS;
                 let alpha = _mm512_set_epi64(w1, w0, w1, w0, w1, w0, w1, w0);
@@ -1101,7 +1106,7 @@ mod x86 {
         #[inline(always)]
         fn modulate(self, a: __m512i, b: __m512i) -> __m512i {
             // As the AVX2 level's, on four 128-bit lanes.
-            unsafe {
+            with_features! {
                 let (zero, half) = (_mm512_setzero_si512(), _mm512_set1_epi16(128));
                 let product = |x: __m512i, y: __m512i| {
                     let t = _mm512_add_epi16(_mm512_mullo_epi16(x, y), half);
@@ -1115,11 +1120,11 @@ mod x86 {
         #[inline(always)]
         fn write_masked(self, mask: u32, new: __m512i, old: __m512i) -> __m512i {
             // Bit by bit `mask ? new : old`: truth table 0xCA of (mask, new, old).
-            unsafe { _mm512_ternarylogic_epi32::<0xCA>(_mm512_set1_epi32(mask as i32), new, old) }
+            with_features! { _mm512_ternarylogic_epi32::<0xCA>(_mm512_set1_epi32(mask as i32), new, old) }
         }
         #[inline(always)]
         fn cmp(self, func: Cmp, a: __m512, b: __m512) -> __mmask16 {
-            unsafe {
+            with_features! {
                 macro_rules! cmp {
                     ($p:ident) => {
                         _mm512_cmp_ps_mask::<$p>(a, b)
@@ -1139,7 +1144,7 @@ mod x86 {
         }
         #[inline(always)]
         fn cmp_u(self, func: Cmp, a: __m512i, b: __m512i) -> __mmask16 {
-            unsafe {
+            with_features! {
                 macro_rules! cmp {
                     ($p:ident) => {
                         _mm512_cmp_epu32_mask::<$p>(a, b)
@@ -1167,11 +1172,11 @@ mod x86 {
         }
         #[inline(always)]
         fn select(self, m: __mmask16, a: __m512i, b: __m512i) -> __m512i {
-            unsafe { _mm512_mask_blend_epi32(m, b, a) }
+            with_features! { _mm512_mask_blend_epi32(m, b, a) }
         }
         #[inline(always)]
         fn select_f(self, m: __mmask16, a: __m512, b: __m512) -> __m512 {
-            unsafe { _mm512_mask_blend_ps(m, b, a) }
+            with_features! { _mm512_mask_blend_ps(m, b, a) }
         }
     }
 }

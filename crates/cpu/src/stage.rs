@@ -352,6 +352,7 @@ impl Twin {
             // compiled with (`Level::detect`).
             #[cfg(target_arch = "x86_64")]
             Level::Avx2(l) => unsafe { batches_avx2(self, l, points, vertices, range, f) },
+            // SAFETY: as above.
             #[cfg(target_arch = "x86_64")]
             Level::Avx512(l) => unsafe { batches_avx512(self, l, points, vertices, range, f) },
         }

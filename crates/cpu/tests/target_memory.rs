@@ -19,6 +19,7 @@ static PEAK: AtomicUsize = AtomicUsize::new(0);
 // allowed on this impl alone. (Reallocation is the trait's default: a new block, then the old
 // one freed, so both count towards the peak.)
 #[allow(unsafe_code)]
+// SAFETY: every method forwards to the system allocator, which meets `GlobalAlloc`'s contract.
 unsafe impl GlobalAlloc for Peak {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         let live = LIVE.fetch_add(layout.size(), Ordering::SeqCst) + layout.size();

@@ -14,6 +14,7 @@ static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
 // The allocator only counts and forwards to the system allocator. `unsafe` is denied in this
 // workspace; a `GlobalAlloc` cannot be written without it, so it is allowed on this impl alone.
 #[allow(unsafe_code)]
+// SAFETY: every method forwards to the system allocator, which meets `GlobalAlloc`'s contract.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         ALLOCATIONS.fetch_add(1, Ordering::Relaxed);

@@ -274,6 +274,7 @@ impl<'a> Counter<'a> {
             // with (`Level::detect`).
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 => unsafe { pass_avx2(&pass, index) },
+            // SAFETY: as above.
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 => unsafe { pass_avx512(&pass, index) },
         }

@@ -161,8 +161,10 @@ pub(super) fn fill<B: Blender>(
         // with (`Level::detect`).
         #[cfg(target_arch = "x86_64")]
         Level::Avx2(l) => unsafe { at!(l, fill_avx2) },
+        // SAFETY: as above.
         #[cfg(target_arch = "x86_64")]
         Level::Avx512(l) if p.rect.x1 - p.rect.x0 <= 8 => unsafe { at!(l.narrow(), fill_avx2) },
+        // SAFETY: as above.
         #[cfg(target_arch = "x86_64")]
         Level::Avx512(l) => unsafe { at!(l, fill_avx512) },
     }
