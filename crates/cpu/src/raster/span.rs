@@ -20,8 +20,9 @@
 //!
 //! Contract: the arithmetic is core's sampler, MODULATE stage and blend, operation for
 //! operation, or an integer formula tested equal to it for every input ([`Lanes::modulate`],
-//! [`Lanes::source_alpha`]), so the pixels are the per-pixel fill's and the core reference's bit for bit on
-//! every level; the tests compare each level the machine has with the core reference.
+//! [`Lanes::source_alpha`]), so the pixels are the per-pixel fill's and the core reference's
+//! bit for bit on every level; the tests compare each level the machine has with the core
+//! reference.
 
 #![allow(unsafe_code)]
 
