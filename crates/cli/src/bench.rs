@@ -34,7 +34,7 @@ Time the performance workloads and print per-frame medians (clear + draw + finis
 is idle). With --peer llvmpipe the same points are drawn with Mesa llvmpipe's OpenGL point
 sprites (surfaceless EGL; Debian: libegl1 libegl-mesa0 libgl1-mesa-dri) and the ratio is
 printed. Threads: RAYON_NUM_THREADS sets how many the CPU backend and the simulation use;
-POINTILLIST_LANES=portable|avx2|avx512 the vectors its pixel spans run on (default: the
+POINTILLIST_LANES=portable|sse2|avx2|avx512 the vectors its pixel spans run on (default: the
 widest the CPU has).
 
 --end-to-end times what a user waits for instead: each workload is written as a scene file

@@ -32,10 +32,10 @@ use pointillist_core::draw::DrawSetup;
 
 pub use pointillist_core::device;
 
-/// The vectors the CPU backend's wide pixel spans run on, `avx512` or `avx2`, the widest the CPU
-/// supports unless the environment variable `POINTILLIST_LANES` names a narrower one; or
-/// `portable` where the CPU has neither (or the variable says so), and spans of four pixels
-/// (SSE2 on x86-64) serve instead. The pixels are the same on every one.
+/// The vectors the CPU backend's wide pixel spans and point batches run on, `avx512`, `avx2` or
+/// `sse2` (every x86-64 CPU has it), the widest the CPU supports unless the environment variable
+/// `POINTILLIST_LANES` names a narrower one; or `portable` (plain scalar code) elsewhere or when
+/// the variable says so. The pixels are the same on every one.
 pub fn lanes() -> &'static str {
     lanes::Level::detect().name()
 }

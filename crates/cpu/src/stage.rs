@@ -348,6 +348,8 @@ impl Twin {
         }
         match lanes {
             Level::Portable => self.batches(Portable, points, vertices, range, f),
+            #[cfg(target_arch = "x86_64")]
+            Level::Sse2(l) => self.batches(l, points, vertices, range, f),
             // SAFETY: the level's value proves the CPU has the features the function is
             // compiled with (`Level::detect`).
             #[cfg(target_arch = "x86_64")]

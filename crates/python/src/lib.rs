@@ -438,7 +438,7 @@ fn _save_png(py: Python<'_>, path: std::path::PathBuf, rgba: &Bound<'_, PyAny>) 
         .map_err(|e| errors::Error::new_err(format!("cannot write {}: {e}", path.display())))
 }
 
-/// The vector level the CPU backend's wide spans run on ("avx512", "avx2" or "portable").
+/// The vector level the CPU backend's wide spans run on ("avx512", "avx2", "sse2" or "portable").
 #[pyfunction]
 fn lanes() -> &'static str {
     pointillist_cpu::lanes()

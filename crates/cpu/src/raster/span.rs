@@ -158,6 +158,8 @@ pub(super) fn fill<B: Blender>(
     }
     match level {
         Level::Portable => at!(Portable, fill_with),
+        #[cfg(target_arch = "x86_64")]
+        Level::Sse2(l) => at!(l, fill_with),
         // SAFETY: the level's value proves the CPU has the features the function is compiled
         // with (`Level::detect`).
         #[cfg(target_arch = "x86_64")]
@@ -643,6 +645,8 @@ mod tests {
         for level in Level::available() {
             match level {
                 Level::Portable => axis_matches_the_per_pixel_indices(Portable),
+                #[cfg(target_arch = "x86_64")]
+                Level::Sse2(l) => axis_matches_the_per_pixel_indices(l),
                 #[cfg(target_arch = "x86_64")]
                 Level::Avx2(l) => axis_matches_the_per_pixel_indices(l),
                 #[cfg(target_arch = "x86_64")]
