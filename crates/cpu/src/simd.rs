@@ -82,71 +82,6 @@ impl F4 {
         imp::lanes(self.0)
     }
 
-    /// Four values, in lane order.
-    #[inline(always)]
-    pub(crate) fn from_lanes(v: [f32; 4]) -> F4 {
-        F4(imp::from_lanes(v))
-    }
-
-    /// The four little-endian f32 at the start of `bytes`, straight into lanes (a vertex's
-    /// position: no round trip through memory).
-    ///
-    /// # Panics
-    /// When `bytes` is shorter than 16.
-    #[inline(always)]
-    pub(crate) fn load(bytes: &[u8]) -> F4 {
-        let bytes: &[u8; 16] = bytes[..16].try_into().expect("16 bytes");
-        F4(imp::load(bytes))
-    }
-
-    /// Lane-wise `self / o`.
-    #[inline(always)]
-    pub(crate) fn div(self, o: F4) -> F4 {
-        F4(imp::div(self.0, o.0))
-    }
-
-    /// True when no lane is NaN or infinite (SPEC 3.1).
-    #[inline(always)]
-    pub(crate) fn is_finite(self) -> bool {
-        imp::is_finite(self.0)
-    }
-
-    /// Lane-wise `if self > o { self } else { o }` (`o` when either is NaN or they are equal).
-    #[inline(always)]
-    pub(crate) fn max(self, o: F4) -> F4 {
-        F4(imp::max(self.0, o.0))
-    }
-
-    /// Lane-wise `if self < o { self } else { o }` (`o` when either is NaN or they are equal).
-    #[inline(always)]
-    pub(crate) fn min(self, o: F4) -> F4 {
-        F4(imp::min(self.0, o.0))
-    }
-
-    /// Lane-wise square root.
-    #[inline(always)]
-    pub(crate) fn sqrt(self) -> F4 {
-        F4(imp::sqrt(self.0))
-    }
-
-    /// Bit `i` set where lane `i` is neither NaN nor infinite.
-    #[inline(always)]
-    pub(crate) fn finite_mask(self) -> u32 {
-        imp::finite_mask(self.0)
-    }
-
-    /// Bit `i` set where lane `i` of `self` is below that of `o` (false for NaN).
-    #[inline(always)]
-    pub(crate) fn lt_mask(self, o: F4) -> u32 {
-        imp::lt_mask(self.0, o.0)
-    }
-
-    /// Bit `i` set where lane `i` of `self` is at most that of `o` (false for NaN).
-    #[inline(always)]
-    pub(crate) fn le_mask(self, o: F4) -> u32 {
-        imp::le_mask(self.0, o.0)
-    }
-
     /// Four vectors of four lanes, transposed: lane `j` of vector `i` becomes lane `i` of
     /// vector `j` (four vertices' positions to their x, y, z and w).
     #[inline(always)]
@@ -278,13 +213,6 @@ pub(crate) fn add_rect(
     imp::add_rect(color, pitch, cols, rows, c, mask)
 }
 
-/// Lane by lane `ceil(v.max(lo).min(hi))` as i32, for `v` not NaN and integer bounds in
-/// `0..=2^24` (the clamped value is then exact in i32 and truncation is `floor`).
-#[inline(always)]
-pub(crate) fn ceil_clamped(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [i32; 4] {
-    imp::ceil_clamped(v, lo, hi)
-}
-
 /// The scalar twin: plain per-lane arithmetic.
 #[cfg(any(test, not(all(target_arch = "x86_64", target_feature = "sse2"))))]
 mod scalar {
@@ -394,70 +322,11 @@ mod scalar {
         }
     }
 
-    #[inline(always)]
-    pub(crate) fn is_finite(v: V) -> bool {
-        v.iter().all(|x| x.is_finite())
-    }
-
-    #[inline(always)]
-    pub(crate) fn sqrt(v: V) -> V {
-        v.map(f32::sqrt)
-    }
-
-    #[inline(always)]
-    pub(crate) fn max(a: V, b: V) -> V {
-        std::array::from_fn(|i| if a[i] > b[i] { a[i] } else { b[i] })
-    }
-
-    #[inline(always)]
-    pub(crate) fn min(a: V, b: V) -> V {
-        std::array::from_fn(|i| if a[i] < b[i] { a[i] } else { b[i] })
-    }
-
-    fn mask(bits: [bool; 4]) -> u32 {
-        (0..4).map(|i| u32::from(bits[i]) << i).sum()
-    }
-
-    #[inline(always)]
-    pub(crate) fn finite_mask(v: V) -> u32 {
-        mask(v.map(f32::is_finite))
-    }
-
-    #[inline(always)]
-    pub(crate) fn lt_mask(a: V, b: V) -> u32 {
-        mask(std::array::from_fn(|i| a[i] < b[i]))
-    }
-
-    #[inline(always)]
-    pub(crate) fn le_mask(a: V, b: V) -> u32 {
-        mask(std::array::from_fn(|i| a[i] <= b[i]))
-    }
-
+    /// Used by the build without SSE2 only, since no test compares it.
+    #[cfg_attr(test, allow(dead_code))]
     #[inline(always)]
     pub(crate) fn transpose(v: [V; 4]) -> [V; 4] {
         std::array::from_fn(|j| std::array::from_fn(|i| v[i][j]))
-    }
-
-    #[inline(always)]
-    pub(crate) fn load(bytes: &[u8; 16]) -> V {
-        std::array::from_fn(|i| {
-            f32::from_le_bytes([
-                bytes[4 * i],
-                bytes[4 * i + 1],
-                bytes[4 * i + 2],
-                bytes[4 * i + 3],
-            ])
-        })
-    }
-
-    #[inline(always)]
-    pub(crate) fn div(a: V, b: V) -> V {
-        std::array::from_fn(|i| a[i] / b[i])
-    }
-
-    #[inline(always)]
-    pub(crate) fn ceil_clamped(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [i32; 4] {
-        std::array::from_fn(|i| v[i].max(lo[i]).min(hi[i]).ceil() as i32)
     }
 }
 
@@ -673,51 +542,6 @@ mod sse2 {
     }
 
     #[inline(always)]
-    pub(crate) fn is_finite(x: V) -> bool {
-        finite_mask(x) == 0xF
-    }
-
-    #[inline(always)]
-    pub(crate) fn finite_mask(x: V) -> u32 {
-        // SAFETY: as in `from_argb`.
-        unsafe {
-            // x * 0 is 0 for finite x and NaN for infinities and NaN.
-            let zero = _mm_setzero_ps();
-            _mm_movemask_ps(_mm_cmpeq_ps(_mm_mul_ps(x, zero), zero)) as u32
-        }
-    }
-
-    #[inline(always)]
-    pub(crate) fn sqrt(a: V) -> V {
-        // SAFETY: as in `from_argb`.
-        unsafe { _mm_sqrt_ps(a) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn max(a: V, b: V) -> V {
-        // SAFETY: as in `from_argb`.
-        unsafe { _mm_max_ps(a, b) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn min(a: V, b: V) -> V {
-        // SAFETY: as in `from_argb`.
-        unsafe { _mm_min_ps(a, b) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn lt_mask(a: V, b: V) -> u32 {
-        // SAFETY: as in `from_argb`.
-        unsafe { _mm_movemask_ps(_mm_cmplt_ps(a, b)) as u32 }
-    }
-
-    #[inline(always)]
-    pub(crate) fn le_mask(a: V, b: V) -> u32 {
-        // SAFETY: as in `from_argb`.
-        unsafe { _mm_movemask_ps(_mm_cmple_ps(a, b)) as u32 }
-    }
-
-    #[inline(always)]
     pub(crate) fn transpose([a, b, c, d]: [V; 4]) -> [V; 4] {
         // SAFETY: as in `from_argb`.
         unsafe {
@@ -732,40 +556,6 @@ mod sse2 {
                 _mm_movehl_ps(cd_hi, ab_hi),
             ]
         }
-    }
-
-    #[inline(always)]
-    pub(crate) fn load(bytes: &[u8; 16]) -> V {
-        // SAFETY: as in `from_argb`; `loadu` reads the 16 bytes of `bytes` at any alignment,
-        // and x86-64 is little-endian.
-        unsafe { _mm_loadu_ps(bytes.as_ptr().cast()) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn div(a: V, b: V) -> V {
-        // SAFETY: as in `from_argb`.
-        unsafe { _mm_div_ps(a, b) }
-    }
-
-    #[inline(always)]
-    pub(crate) fn ceil_clamped(v: [f32; 4], lo: [f32; 4], hi: [f32; 4]) -> [i32; 4] {
-        let mut out = [0i32; 4];
-        // SAFETY: as in `from_argb`; the loads read the four f32 of each array and the store
-        // writes the four i32 of `out`, at any alignment.
-        unsafe {
-            let x = _mm_loadu_ps(v.as_ptr());
-            // Neither operand of max is NaN, so maxps/minps are f32::max/min.
-            let c = _mm_min_ps(
-                _mm_max_ps(x, _mm_loadu_ps(lo.as_ptr())),
-                _mm_loadu_ps(hi.as_ptr()),
-            );
-            let t = _mm_cvttps_epi32(c);
-            // Add one (subtract the -1 mask) where the truncation is below the value.
-            let up = _mm_cmplt_ps(_mm_cvtepi32_ps(t), c);
-            let t = _mm_sub_epi32(t, _mm_castps_si128(up));
-            _mm_storeu_si128(out.as_mut_ptr().cast::<__m128i>(), t);
-        }
-        out
     }
 
     #[inline(always)]
@@ -859,70 +649,6 @@ mod tests {
             let mut twin = image;
             scalar::add_rect(&mut twin, pitch, (x0, x1), (r0, r1), c, mask);
             assert_eq!(ours, twin, "{pitch} {x0}..{x1} {r0}..{r1}");
-        }
-    }
-
-    #[test]
-    fn point_stage_lanes_match_the_scalar_twin() {
-        let mut rng = Rng(0x2468_ACE0_1357_9BDF);
-        let special = [
-            f32::NAN,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            -0.0,
-            0.0,
-            f32::MAX,
-            1e-40,
-        ];
-        for _ in 0..200_000 {
-            let mut lane = || match rng.next() % 4 {
-                0 => rng.pick(&special),
-                1 => f32::from_bits(rng.next()),
-                _ => rng.range(-100.0, 20000.0),
-            };
-            let v = [lane(), lane(), lane(), lane()];
-            let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
-            let loaded = F4::load(&bytes);
-            let bits = |v: [f32; 4]| v.map(f32::to_bits);
-            assert_eq!(bits(loaded.lanes()), bits(v));
-            assert_eq!(bits(scalar::load(&bytes.try_into().unwrap())), bits(v));
-            assert_eq!(loaded.is_finite(), scalar::is_finite(v), "{v:?}");
-            let w = [lane(), lane(), lane(), lane()];
-            let (fv, fw) = (F4::from_lanes(v), F4::from_lanes(w));
-            assert_eq!(
-                bits(fv.div(fw).lanes()),
-                bits(scalar::div(v, w)),
-                "{v:?} / {w:?}"
-            );
-            assert_eq!(bits(fv.sqrt().lanes()), bits(scalar::sqrt(v)), "{v:?}");
-            assert_eq!(
-                bits(fv.max(fw).lanes()),
-                bits(scalar::max(v, w)),
-                "{v:?} {w:?}"
-            );
-            assert_eq!(
-                bits(fv.min(fw).lanes()),
-                bits(scalar::min(v, w)),
-                "{v:?} {w:?}"
-            );
-            assert_eq!(fv.finite_mask(), scalar::finite_mask(v), "{v:?}");
-            assert_eq!(fv.lt_mask(fw), scalar::lt_mask(v, w), "{v:?} < {w:?}");
-            assert_eq!(fv.le_mask(fw), scalar::le_mask(v, w), "{v:?} <= {w:?}");
-            let rows = [v, w, [lane(), lane(), lane(), lane()], v.map(|x| -x)];
-            assert_eq!(
-                F4::transpose(rows.map(F4::from_lanes)).map(|r| bits(r.lanes())),
-                scalar::transpose(rows).map(bits)
-            );
-            if v.iter().any(|x| x.is_nan()) {
-                continue;
-            }
-            let lo = [0.0, 3.0, 0.0, 16.0];
-            let hi = [16384.0, 90.0, 1.0, 16384.0];
-            assert_eq!(
-                ceil_clamped(v, lo, hi),
-                scalar::ceil_clamped(v, lo, hi),
-                "{v:?}"
-            );
         }
     }
 

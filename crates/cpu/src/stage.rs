@@ -1,20 +1,20 @@
-//! The per-point stage for the fills that need only a point's square: core's
-//! [`PointSetup::process`] (SPEC 2, 3.1, 3.2, 4.1), with a fast twin for vertices without
-//! per-pixel clip planes that resolves everything per draw and keeps nothing the fills do not
-//! read. Where the CPU has AVX-512 or AVX2 ([`Level`]), vertices go N at a time, one a lane
-//! (sixteen or eight), through lane twins of core's tests, [`PointSetup::project`] and
-//! [`PointSetup::size`]; without them transformed vertices go four at a time through an SSE
-//! twin, pre-transformed ones one at a time.
+//! The per-point stage for the fills that need only a point's square: D3D9's fixed-function
+//! vertex processing of points (SPEC 1, 2, 3.1, 3.2, 4.1), core's [`PointSetup::process`], with
+//! a fast form for the commonest draws ([`VertexProcessing`]: no user clip planes, lighting or
+//! fog) that resolves everything per draw and keeps nothing the fills do not read. Vertices go
+//! N at a time, one a lane, on the level [`Level`] chose, then transformed ones four at a time
+//! on SSE2 where x86-64 has it, the rest one at a time.
 //!
-//! The twin is tested against `process` on random and hostile vertices, on every level the
-//! machine has: it drops the same points and gives the same squares, bit for bit.
+//! [`VertexProcessing`] is tested against `process` on random and hostile vertices, on every
+//! level the machine has: it drops the same points and gives the same squares, bit for bit.
 
 use pointillist_core::fvf::{read_f32, read_u32};
 use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
 use pointillist_core::states::Cmp;
 
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::Sse2;
 use crate::lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
-use crate::simd::{self, F4};
 
 /// What the compact fills read of a point: its covered rectangle (never empty), depth, size,
 /// near edges and diffuse colour (SPEC 4.1 to 4.3).
@@ -42,17 +42,17 @@ impl From<&ScreenPoint> for Square {
     }
 }
 
-/// The squares of a draw's vertices, from the twin where it applies and from core's stage
-/// otherwise; N at a time on `lanes`, when given.
+/// The squares of a draw's vertices, from [`VertexProcessing`] where it applies and from
+/// core's stage otherwise; N at a time on `lanes`, when given.
 pub(crate) struct SquareStage {
-    twin: Option<Twin>,
+    fast: Option<VertexProcessing>,
     lanes: Option<Level>,
 }
 
 impl SquareStage {
     pub(crate) fn new(points: &PointSetup, lanes: Option<Level>) -> SquareStage {
         SquareStage {
-            twin: Twin::new(points),
+            fast: VertexProcessing::new(points),
             lanes,
         }
     }
@@ -67,17 +67,22 @@ impl SquareStage {
         mut f: impl FnMut(u32, &Square),
     ) {
         let mut range = range;
-        if let (Some(twin), Some(lanes)) = (&self.twin, self.lanes) {
+        if let Some(fast) = &self.fast {
             // The vertices before `range.start` after it went through N at a time.
-            range.start = twin.for_each_batched(lanes, points, vertices, range.clone(), &mut f);
-        }
-        if let Some(twin) = self.twin.as_ref().filter(|t| !t.pretransformed) {
-            return twin.for_each_transformed(points, vertices, range, &mut f);
+            if let Some(lanes) = self.lanes {
+                range.start = fast.for_each_batched(lanes, points, vertices, range.clone(), &mut f);
+            }
+            // Transformed vertices four at a time: their projection's divisions and square
+            // roots pay for the lanes; pre-transformed ones are cheaper one at a time.
+            #[cfg(target_arch = "x86_64")]
+            if !fast.pretransformed {
+                range.start = fast.quads(points, vertices, range.clone(), &mut f);
+            }
         }
         // One call site of `f`, so that it inlines; the match is the same for every vertex.
         for index in range {
-            let square = match &self.twin {
-                Some(twin) => twin.square(points, vertices, index),
+            let square = match &self.fast {
+                Some(fast) => fast.square(points, vertices, index),
                 None => points.process(vertices, index).map(|p| Square::from(&p)),
             };
             if let Some(s) = square {
@@ -87,13 +92,15 @@ impl SquareStage {
     }
 }
 
-/// [`PointSetup::process`] for vertices without user clip planes (SPEC 2, 3.1, 3.2, 4.1): a
-/// point is its screen position, its size and its diffuse colour. One vertex at a time the
-/// rules are core's (`keeps_pretransformed`, `project`, `size`); four transformed vertices at
-/// a time they are [`Projector::project4`] and the scaled size in four lanes. What is resolved
-/// here per draw is where the vertex's fields are, whether every point has one size, and the
-/// viewport as float bounds.
-pub(crate) struct Twin {
+/// D3D9's fixed-function vertex processing of a point without user clip planes (SPEC 3.3),
+/// lighting (SPEC 8) or fog (SPEC 9), [`PointSetup::process`] for those: the point is its
+/// screen position (SPEC 1; or the pre-transformed one), dropped by SPEC 3.1 and 3.2, its size
+/// (SPEC 2) and its diffuse colour, and becomes its square (SPEC 4.1). One vertex at a time the
+/// rules are core's (`keeps_pretransformed`, `project`, `size`); a batch of vertices, one a
+/// lane, goes through the same operations on [`Lanes`] ([`VertexProcessing::batches`]). What
+/// is resolved here per draw is where the vertex's fields are, whether every point has one
+/// size, and the viewport as float bounds.
+pub(crate) struct VertexProcessing {
     stride: usize,
     pretransformed: bool,
     /// Position floats: 4 (XYZRHW, XYZW) or 3 (XYZ, w = 1).
@@ -108,15 +115,12 @@ pub(crate) struct Twin {
     /// `left, top, right, bottom`: `[x0, y0, x0, y0]` and `[x1, y1, x1, y1]`.
     lower: [f32; 4],
     upper: [f32; 4],
-    /// The vertex holds 16 bytes from its position on, read at once.
-    load16: bool,
     /// The matrices, viewport and clipping of the draw.
     projector: Projector,
 }
 
 /// What [`PointSetup::project`] (SPEC 1, 2.2, 3.1) and the pre-transformed depth test read,
-/// resolved per draw; [`Projector::project4`] projects four vertices, one a lane: every lane
-/// the same products, sums and divisions, in the same order, so the same bits.
+/// resolved per draw.
 struct Projector {
     /// WORLD * VIEW and PROJECTION (rows).
     world_view: [[f32; 4]; 4],
@@ -132,9 +136,6 @@ struct Projector {
     max_z: f32,
     depth: f32,
 }
-
-/// WORLD * VIEW and PROJECTION, every element in all four lanes.
-type Matrices4 = [[[F4; 4]; 4]; 2];
 
 impl Projector {
     fn new(points: &PointSetup) -> Projector {
@@ -152,56 +153,13 @@ impl Projector {
             depth: vp.max_z - vp.min_z,
         }
     }
-
-    /// WORLD * VIEW and PROJECTION with every element in all four lanes, for
-    /// [`Projector::project4`] (made once per batch of vertices, not per vertex).
-    fn splat4(&self) -> Matrices4 {
-        [self.world_view, self.projection].map(|m| m.map(|row| row.map(F4::splat)))
-    }
-
-    /// `Mat4::transform` (`v[0] * m[0][c] + v[1] * m[1][c] + v[2] * m[2][c] + v[3] * m[3][c]`)
-    /// of four vectors given as their x, y, z and w lanes.
-    #[inline(always)]
-    fn transform4(m: &[[F4; 4]; 4], [x, y, z, w]: [F4; 4]) -> [F4; 4] {
-        std::array::from_fn(|c| {
-            x.mul(m[0][c])
-                .add(y.mul(m[1][c]))
-                .add(z.mul(m[2][c]))
-                .add(w.mul(m[3][c]))
-        })
-    }
-
-    /// [`PointSetup::project`] of four finite positions given as their x, y, z and w lanes
-    /// through `matrices` ([`Projector::splat4`]): the screen x, y, z and eye distance lanes,
-    /// and bit `i` set where vertex `i` is kept.
-    #[inline(always)]
-    fn project4(&self, [world_view, projection]: &Matrices4, position: [F4; 4]) -> ([F4; 4], u32) {
-        // SPEC 3.1: subnormal coordinates count as zero.
-        let position = position
-            .map(|c| F4::from_lanes(c.lanes().map(pointillist_core::math::flush_subnormal)));
-        let eye = Self::transform4(world_view, position);
-        let [c0, c1, c2, c3] = Self::transform4(projection, eye);
-        let zero = F4::splat(0.0);
-        let mut keep = c0.finite_mask() & c1.finite_mask() & c2.finite_mask() & c3.finite_mask();
-        keep &= zero.lt_mask(c3);
-        if self.clipping {
-            keep &= zero.le_mask(c2) & c2.le_mask(c3);
-        }
-        let [e0, e1, e2, _] = eye;
-        let eye_distance = e0.mul(e0).add(e1.mul(e1)).add(e2.mul(e2)).sqrt();
-        let (one, two) = (F4::splat(1.0), F4::splat(2.0));
-        let x = F4::splat(self.x).add(one.add(c0.div(c3)).mul(F4::splat(self.width)).div(two));
-        let y = F4::splat(self.y).add(one.sub(c1.div(c3)).mul(F4::splat(self.height)).div(two));
-        let z = F4::splat(self.min_z).add(c2.div(c3).mul(F4::splat(self.depth)));
-        ([x, y, z, eye_distance], keep)
-    }
 }
 
-impl Twin {
-    /// The twin for `points`, or `None` when user clip planes apply (SPEC 3.3) or the points'
+impl VertexProcessing {
+    /// The fast form for `points`, or `None` when user clip planes apply (SPEC 3.3) or the points'
     /// colours are not their vertex colours (lighting, SPEC 8.1; fog, SPEC 9.1): core's stage
     /// computes those.
-    pub(crate) fn new(points: &PointSetup) -> Option<Twin> {
+    pub(crate) fn new(points: &PointSetup) -> Option<VertexProcessing> {
         if !points.user_planes().is_empty() || !points.uses_vertex_colors() {
             return None;
         }
@@ -211,7 +169,7 @@ impl Twin {
             .psize
             .filter(|_| points.uses_vertex_size() && !single_pixel);
         let r = points.viewport_rect();
-        Some(Twin {
+        Some(VertexProcessing {
             stride: layout.stride,
             pretransformed: points.is_pretransformed(),
             position_len: layout.position_len,
@@ -222,30 +180,8 @@ impl Twin {
             diffuse: layout.diffuse,
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
-            load16: layout.stride >= 16,
             projector: Projector::new(points),
         })
-    }
-
-    /// The position of vertex `v` as x, y, z, w lanes (w = 1 for XYZ).
-    #[inline(always)]
-    fn position(&self, v: &[u8]) -> F4 {
-        if self.load16 {
-            let p = F4::load(v);
-            // XYZ: the fourth float is another field.
-            if self.position_len == 4 {
-                p
-            } else {
-                p.with_alpha_of(F4::splat(1.0))
-            }
-        } else {
-            let w = if self.position_len == 4 {
-                read_f32(v, 12)
-            } else {
-                1.0
-            };
-            F4::from_lanes([read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w])
-        }
     }
 
     /// Vertex `index` as a square, `None` when it is dropped or covers no pixel.
@@ -258,12 +194,16 @@ impl Twin {
     ) -> Option<Square> {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + self.stride];
-        let position = self.position(v);
+        let w = if self.position_len == 4 {
+            read_f32(v, 12)
+        } else {
+            1.0
+        };
+        let position = [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w];
         // SPEC 3.1: finite coordinates.
-        if !position.is_finite() {
+        if !position.iter().all(|c| c.is_finite()) {
             return None;
         }
-        let position = position.lanes();
         let size = |de: f32| match self.size {
             Some(size) => size,
             None => points.size(self.psize.map_or(self.point_size, |o| read_f32(v, o)), de),
@@ -276,7 +216,7 @@ impl Twin {
             (x, y, z, size(0.0))
         } else {
             let p = points.project(position)?;
-            if !F4::from_lanes([p.x, p.y, p.z, 0.0]).is_finite() {
+            if ![p.x, p.y, p.z].iter().all(|c| c.is_finite()) {
                 return None;
             }
             (p.x, p.y, p.z, size(p.eye_distance))
@@ -285,8 +225,14 @@ impl Twin {
         let (left, top) = (x - half, y - half);
         // SPEC 4.1 and 3.2: `ceil` of the edges, clamped to the viewport. Clamping before the
         // ceiling gives the same rectangle (the bounds are integers and `ceil` is monotonic).
+        // The clamped edge is exact in i32, so the truncation, one up where it is below, is
+        // the ceiling (without SSE4.1 `f32::ceil` is a call).
         let edges = [left, top, x + half, y + half];
-        let [x0, y0, x1, y1] = simd::ceil_clamped(edges, self.lower, self.upper);
+        let [x0, y0, x1, y1] = std::array::from_fn(|k| {
+            let c = edges[k].max(self.lower[k]).min(self.upper[k]);
+            let t = c as i32;
+            t + i32::from((t as f32) < c)
+        });
         let rect = PixelRect { x0, y0, x1, y1 };
         if rect.is_empty() {
             return None;
@@ -303,33 +249,22 @@ impl Twin {
         })
     }
 
-    /// [`SquareStage::for_each`] for transformed vertices, four at a time (their projection's
-    /// divisions and square roots pay for it; pre-transformed vertices are cheaper one at a
-    /// time). Not inlined, so that the pre-transformed loop keeps its own code.
+    /// [`SquareStage::for_each`] four vertices at a time on SSE2 from `range.start` while whole
+    /// batches remain; the index of the first vertex left. Not inlined, so that the
+    /// one-at-a-time loop keeps its own code.
+    #[cfg(target_arch = "x86_64")]
     #[inline(never)]
-    fn for_each_transformed(
+    fn quads<F: FnMut(u32, &Square)>(
         &self,
         points: &PointSetup,
         vertices: &[u8],
         range: std::ops::Range<u32>,
-        f: &mut impl FnMut(u32, &Square),
-    ) {
-        let matrices = self.projector.splat4();
-        let mut index = range.start;
-        while range.end - index >= 4 {
-            let squares = self.squares4(points, &matrices, vertices, index);
-            for (k, square) in squares.iter().enumerate() {
-                if let Some(s) = square {
-                    f(index + k as u32, s);
-                }
-            }
-            index += 4;
+        f: &mut F,
+    ) -> u32 {
+        if vertices.len() > i32::MAX as usize {
+            return range.start;
         }
-        for index in index..range.end {
-            if let Some(s) = self.square(points, vertices, index) {
-                f(index, &s);
-            }
-        }
+        self.batches(Sse2::new(), points, vertices, range, f)
     }
 
     /// [`SquareStage::for_each`] N vertices at a time on `lanes` from `range.start` while whole
@@ -360,9 +295,10 @@ impl Twin {
         }
     }
 
-    /// [`Twin::for_each_batched`] on lanes `L`: [`Twin::square`]'s operations lane by lane
-    /// (for transformed vertices those of [`Projector::project4`] and the scaled size), the
-    /// drops ANDed into one mask, so the same squares; where the lanes' max and min differ
+    /// [`VertexProcessing::for_each_batched`] on lanes `L`: [`VertexProcessing::square`]'s
+    /// operations lane by lane (for transformed vertices those of [`PointSetup::project`] and
+    /// the scaled size: every lane the same products, sums and divisions, in the same order),
+    /// the drops ANDed into one mask, so the same squares; where the lanes' max and min differ
     /// from f32's (equal operands), only the sign of a zero size differs, and a zero size
     /// covers no pixel.
     #[inline(always)]
@@ -558,115 +494,34 @@ impl Twin {
         }
         index
     }
-
-    /// Transformed vertices `index..index + 4` as [`Twin::square`] gives them, four lanes at a
-    /// time: every lane the same operations (the drops ANDed into one mask), so the same
-    /// squares.
-    #[inline(always)]
-    fn squares4(
-        &self,
-        points: &PointSetup,
-        matrices: &Matrices4,
-        vertices: &[u8],
-        index: u32,
-    ) -> [Option<Square>; 4] {
-        let base = index as usize * self.stride;
-        let v = &vertices[base..base + 4 * self.stride];
-        let vertex = |i: usize| &v[i * self.stride..(i + 1) * self.stride];
-        let position = F4::transpose(std::array::from_fn(|i| self.position(vertex(i))));
-        // SPEC 3.1: finite coordinates, then the projection's drops and a finite screen position.
-        let mut keep = position.iter().fold(0xF, |k, c| k & c.finite_mask());
-        let ([x, y, z, de], kept) = self.projector.project4(matrices, position);
-        keep &= kept & x.finite_mask() & y.finite_mask() & z.finite_mask();
-        if keep == 0 {
-            return [None; 4];
-        }
-        let si = || {
-            F4::from_lanes(std::array::from_fn(|i| {
-                self.psize
-                    .map_or(self.point_size, |o| read_f32(vertex(i), o))
-            }))
-        };
-        let size = match (self.size, points.scale()) {
-            (Some(size), _) => F4::splat(size),
-            // SPEC 2.2 and 2.3, `scaled_size` and `clamp_to_bounds` lane by lane; where the
-            // lanes' max and min differ from f32's (equal operands), only the sign of a zero
-            // size differs, and a zero size covers no pixel.
-            (None, Some(scale)) => {
-                let splat = F4::splat;
-                let terms = splat(scale.a)
-                    .add(splat(scale.b).mul(de))
-                    .add(splat(scale.c).mul(de).mul(de));
-                let ss = splat(scale.viewport_height)
-                    .mul(si())
-                    .mul(splat(1.0).div(terms).sqrt());
-                let (lo, hi) = points.size_bounds();
-                ss.max(splat(0.0)).max(splat(lo)).min(splat(hi))
-            }
-            (None, None) => {
-                let (si, de) = (si().lanes(), de.lanes());
-                F4::from_lanes(std::array::from_fn(|i| points.size(si[i], de[i])))
-            }
-        };
-        let half = size.div(F4::splat(2.0));
-        let (left, top) = (x.sub(half), y.sub(half));
-        let (right, bottom) = (x.add(half), y.add(half));
-        let clamp =
-            |e: F4, k: usize| simd::ceil_clamped(e.lanes(), [self.lower[k]; 4], [self.upper[k]; 4]);
-        let (x0, y0, x1, y1) = (
-            clamp(left, 0),
-            clamp(top, 1),
-            clamp(right, 2),
-            clamp(bottom, 3),
-        );
-        let (z, size, left, top) = (z.lanes(), size.lanes(), left.lanes(), top.lanes());
-        std::array::from_fn(|i| {
-            let rect = PixelRect {
-                x0: x0[i],
-                y0: y0[i],
-                x1: x1[i],
-                y1: y1[i],
-            };
-            (keep & (1 << i) != 0 && !rect.is_empty()).then(|| Square {
-                rect,
-                z: z[i],
-                size: size[i],
-                left: left[i],
-                top: top[i],
-                diffuse: self
-                    .diffuse
-                    .map_or(pointillist_core::color::WHITE, |o| read_u32(vertex(i), o)),
-            })
-        })
-    }
 }
 
-/// [`Twin::batches`] compiled for AVX2.
+/// [`VertexProcessing::batches`] compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn batches_avx2<F: FnMut(u32, &Square)>(
-    twin: &Twin,
+    stage: &VertexProcessing,
     l: crate::lanes::Avx2,
     points: &PointSetup,
     vertices: &[u8],
     range: std::ops::Range<u32>,
     f: &mut F,
 ) -> u32 {
-    twin.batches(l, points, vertices, range, f)
+    stage.batches(l, points, vertices, range, f)
 }
 
-/// [`Twin::batches`] compiled for AVX-512 F and BW.
+/// [`VertexProcessing::batches`] compiled for AVX-512 F and BW.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512bw")]
 fn batches_avx512<F: FnMut(u32, &Square)>(
-    twin: &Twin,
+    stage: &VertexProcessing,
     l: crate::lanes::Avx512,
     points: &PointSetup,
     vertices: &[u8],
     range: std::ops::Range<u32>,
     f: &mut F,
 ) -> u32 {
-    twin.batches(l, points, vertices, range, f)
+    stage.batches(l, points, vertices, range, f)
 }
 
 #[cfg(test)]
@@ -694,11 +549,11 @@ mod tests {
         }
     }
 
-    /// The twin and core's stage agree on which points survive and on every field the fills
+    /// The fast vertex processing and core's stage agree on which points survive and on every field the fills
     /// read, over pre-transformed and transformed formats, caps profiles, size and scale
     /// states, transforms, viewports and hostile vertices.
     #[test]
-    fn twin_matches_core_process() {
+    fn fast_vertex_processing_matches_core_process() {
         let mut rng = Rng(0xC0FF_EE00_D15E_A5E5);
         let (mut tested, mut survivors) = (0, 0);
         for case in 0..600 {
@@ -709,10 +564,10 @@ mod tests {
                 ..DeviceDesc::new(120, 90)
             };
             let mut device = crate::device(desc).unwrap();
-            // Lit or fogged points take core's stage (SPEC 8.1, 9.1): no twin.
-            assert!(Twin::new(&PointSetup::new(device.state(), Fvf::XYZ)).is_none());
+            // Lit or fogged points take core's stage (SPEC 8.1, 9.1): no fast form.
+            assert!(VertexProcessing::new(&PointSetup::new(device.state(), Fvf::XYZ)).is_none());
             device.set_render_state(RenderState::FOGENABLE, true);
-            assert!(Twin::new(&PointSetup::new(device.state(), Fvf::XYZRHW)).is_none());
+            assert!(VertexProcessing::new(&PointSetup::new(device.state(), Fvf::XYZRHW)).is_none());
             device.set_render_state(RenderState::FOGENABLE, false);
             device.set_render_state(RenderState::LIGHTING, false);
             let rs = |d: &mut crate::CpuDevice, s: RenderState, v: f32| {
@@ -769,8 +624,8 @@ mod tests {
                 _ => Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0),
             };
             let points = PointSetup::new(device.state(), fvf);
-            let twin = Twin::new(&points).expect("no user clip planes");
-            assert!(SquareStage::new(&points, None).twin.is_some());
+            let fast = VertexProcessing::new(&points).expect("no user clip planes");
+            assert!(SquareStage::new(&points, None).fast.is_some());
             let mut vertices = Vec::new();
             for _ in 0..200 {
                 let mut words = if fvf.is_pretransformed() {
@@ -826,7 +681,7 @@ mod tests {
                 .map(|index| bits(points.process(&vertices, index).map(|p| Square::from(&p))))
                 .collect();
             for index in 0..count {
-                let ours = bits(twin.square(&points, &vertices, index));
+                let ours = bits(fast.square(&points, &vertices, index));
                 assert_eq!(
                     ours, reference[index as usize],
                     "case {case} ({profile}, {fvf:?}) vertex {index}"
