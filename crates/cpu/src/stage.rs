@@ -12,9 +12,7 @@ use pointillist_core::fvf::{read_f32, read_u32};
 use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
 use pointillist_core::states::Cmp;
 
-#[cfg(target_arch = "x86_64")]
-use crate::lanes::Sse2;
-use crate::lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
+use crate::lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
 
 /// What the compact fills read of a point: its covered rectangle (never empty), depth, size,
 /// near edges and diffuse colour (SPEC 4.1 to 4.3).
@@ -75,14 +73,14 @@ impl SquareStage {
             // Transformed vertices four at a time: their projection's divisions and square
             // roots pay for the lanes; pre-transformed ones are cheaper one at a time.
             #[cfg(target_arch = "x86_64")]
-            if !fast.pretransformed {
+            if !fast.pretransformed && range.len() >= 4 {
                 range.start = fast.quads(points, vertices, range.clone(), &mut f);
             }
         }
         // One call site of `f`, so that it inlines; the match is the same for every vertex.
         for index in range {
             let square = match &self.fast {
-                Some(fast) => fast.square(points, vertices, index),
+                Some(fast) => fast.square(BASELINE, points, vertices, index),
                 None => points.process(vertices, index).map(|p| Square::from(&p)),
             };
             if let Some(s) = square {
@@ -184,10 +182,12 @@ impl VertexProcessing {
         })
     }
 
-    /// Vertex `index` as a square, `None` when it is dropped or covers no pixel.
+    /// Vertex `index` as a square, `None` when it is dropped or covers no pixel; its position
+    /// and its edges in the first four lanes of `l`.
     #[inline(always)]
-    pub(crate) fn square(
+    pub(crate) fn square<L: Lanes>(
         &self,
+        l: L,
         points: &PointSetup,
         vertices: &[u8],
         index: u32,
@@ -200,8 +200,10 @@ impl VertexProcessing {
             1.0
         };
         let position = [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w];
-        // SPEC 3.1: finite coordinates.
-        if !position.iter().all(|c| c.is_finite()) {
+        // SPEC 3.1: finite coordinates (`v - v` is 0 exactly for finite `v`).
+        let lanes = l.load_part(&position);
+        let zero = l.splat(0.0);
+        if l.bits(l.cmp(Cmp::Equal, l.sub(lanes, lanes), zero)) & 0xF != 0xF {
             return None;
         }
         let size = |de: f32| match self.size {
@@ -226,13 +228,18 @@ impl VertexProcessing {
         // SPEC 4.1 and 3.2: `ceil` of the edges, clamped to the viewport. Clamping before the
         // ceiling gives the same rectangle (the bounds are integers and `ceil` is monotonic).
         // The clamped edge is exact in i32, so the truncation, one up where it is below, is
-        // the ceiling (without SSE4.1 `f32::ceil` is a call).
-        let edges = [left, top, x + half, y + half];
-        let [x0, y0, x1, y1] = std::array::from_fn(|k| {
-            let c = edges[k].max(self.lower[k]).min(self.upper[k]);
-            let t = c as i32;
-            t + i32::from((t as f32) < c)
-        });
+        // the ceiling (a cheaper one than `Lanes::ceil` without SSE4.1).
+        let edges = l.load_part(&[left, top, x + half, y + half]);
+        let (lower, upper) = (l.load_part(&self.lower), l.load_part(&self.upper));
+        let clamped = l.min(l.max(edges, lower), upper);
+        let t = l.float_to_int(clamped);
+        let up = l.cmp(Cmp::Less, l.int_to_float(t), clamped);
+        let mut ceiled = [0u32; MAX_LANES];
+        l.store_u(
+            &mut ceiled,
+            l.add_u(t, l.select(up, l.splat_u(1), l.splat_u(0))),
+        );
+        let [x0, y0, x1, y1] = [0, 1, 2, 3].map(|k| ceiled[k] as i32);
         let rect = PixelRect { x0, y0, x1, y1 };
         if rect.is_empty() {
             return None;
@@ -264,7 +271,7 @@ impl VertexProcessing {
         if vertices.len() > i32::MAX as usize {
             return range.start;
         }
-        self.batches(Sse2::new(), points, vertices, range, f)
+        self.batches(BASELINE, points, vertices, range, f)
     }
 
     /// [`SquareStage::for_each`] N vertices at a time on `lanes` from `range.start` while whole
@@ -283,8 +290,10 @@ impl VertexProcessing {
         }
         match lanes {
             Level::Portable => self.batches(Portable, points, vertices, range, f),
+            // Pre-transformed vertices are cheaper one at a time than gathered four at a time
+            // on SSE2; transformed ones go through `quads`.
             #[cfg(target_arch = "x86_64")]
-            Level::Sse2(l) => self.batches(l, points, vertices, range, f),
+            Level::Sse2(_) => range.start,
             // SAFETY: the level's value proves the CPU has the features the function is
             // compiled with (`Level::detect`).
             #[cfg(target_arch = "x86_64")]
@@ -681,7 +690,7 @@ mod tests {
                 .map(|index| bits(points.process(&vertices, index).map(|p| Square::from(&p))))
                 .collect();
             for index in 0..count {
-                let ours = bits(fast.square(&points, &vertices, index));
+                let ours = bits(fast.square(BASELINE, &points, &vertices, index));
                 assert_eq!(
                     ours, reference[index as usize],
                     "case {case} ({profile}, {fvf:?}) vertex {index}"

@@ -224,6 +224,15 @@ fn div_255(x: u32) -> u32 {
     (t + (t >> 8)) >> 8
 }
 
+/// Four or more lanes every CPU of the target has, for the code that runs outside any
+/// [`Level`]'s functions: SSE2 on x86-64, the portable twin elsewhere.
+#[cfg(target_arch = "x86_64")]
+pub(crate) const BASELINE: Sse2 = Sse2::new();
+/// Four or more lanes every CPU of the target has, for the code that runs outside any
+/// [`Level`]'s functions: SSE2 on x86-64, the portable twin elsewhere.
+#[cfg(not(target_arch = "x86_64"))]
+pub(crate) const BASELINE: Portable = Portable;
+
 /// The environment variable that chooses a narrower [`Level`] than the widest the CPU has
 /// (`portable`, `sse2`, `avx2`, `avx512`), to compare them.
 pub(crate) const LANES_VAR: &str = "POINTILLIST_LANES";
@@ -233,15 +242,16 @@ pub(crate) const LANES_VAR: &str = "POINTILLIST_LANES";
 pub(crate) enum Level {
     /// [`Portable`].
     Portable,
-    /// [`Sse2`].
-    #[cfg(target_arch = "x86_64")]
-    Sse2(Sse2),
     /// [`Avx2`].
     #[cfg(target_arch = "x86_64")]
     Avx2(Avx2),
     /// [`Avx512`].
     #[cfg(target_arch = "x86_64")]
     Avx512(Avx512),
+    /// [`Sse2`] (last: the wide spans' dispatch on the other levels then compiles as before
+    /// it came, a comparison less a sprite).
+    #[cfg(target_arch = "x86_64")]
+    Sse2(Sse2),
 }
 
 impl Level {
@@ -276,7 +286,7 @@ impl Level {
     pub(crate) fn available() -> Vec<Level> {
         #[cfg(target_arch = "x86_64")]
         let wide = [
-            Some(Level::Sse2(Sse2::new())),
+            Some(Level::Sse2(BASELINE)),
             Avx2::new().map(Level::Avx2),
             Avx512::new().map(Level::Avx512),
         ];
@@ -306,7 +316,7 @@ macro_rules! with_features {
     ($($body:tt)*) => {
         // SAFETY: a value of `Avx2` or `Avx512` exists only after
         // `is_x86_feature_detected!` saw its features (its field is private to this module
-        // and `new` checks), and SSE2 is part of the x86-64 baseline every build targets, so
+        // and `new` checks), and SSE2 is enabled for the whole build (`sse2.rs` checks), so
         // the CPU runs the instructions; loads and stores go through slices whose length was
         // checked first, and gathers clamp their indices into the slice.
         unsafe { $($body)* }

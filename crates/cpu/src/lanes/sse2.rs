@@ -13,10 +13,12 @@ use pointillist_core::states::Cmp;
 #[derive(Copy, Clone, Debug)]
 pub(crate) struct Sse2(());
 
+#[cfg(not(target_feature = "sse2"))]
+compile_error!("an x86-64 build without SSE2, which the SSE2 level takes as the baseline");
+
 impl Sse2 {
-    /// The level: every x86-64 CPU has SSE2 (checked all the same, like the wider levels).
-    pub(crate) fn new() -> Sse2 {
-        assert!(is_x86_feature_detected!("sse2"), "x86-64 without SSE2");
+    /// The level: SSE2 is part of the x86-64 baseline the build targets.
+    pub(crate) const fn new() -> Sse2 {
         Sse2(())
     }
 }
@@ -42,7 +44,7 @@ fn round<const UP: bool>(a: __m128) -> __m128 {
     }
 }
 
-/// The four u32 of `v`.
+/// The four u32 of `v` (lane 0 first).
 #[inline(always)]
 fn words(v: __m128i) -> [u32; 4] {
     let mut out = [0; 4];
@@ -115,15 +117,15 @@ impl Lanes for Sse2 {
     const REGISTER_GATHER: usize = 0;
     #[inline(always)]
     fn gather(self, row: &[f32], idx: __m128i) -> __m128 {
-        let last = row.len() - 1;
-        let i = words(idx).map(|i| row[(i as usize).min(last)]);
-        self.load(&i)
+        let (i, last) = (words(idx), row.len() - 1);
+        let at = |k: usize| row[(i[k] as usize).min(last)];
+        self.load(&[at(0), at(1), at(2), at(3)])
     }
     #[inline(always)]
     fn gather_u(self, row: &[u32], idx: __m128i) -> __m128i {
-        let last = row.len() - 1;
-        let i = words(idx).map(|i| row[(i as usize).min(last)]);
-        self.load_u(&i)
+        let (i, last) = (words(idx), row.len() - 1);
+        let at = |k: usize| row[(i[k] as usize).min(last)];
+        self.load_u(&[at(0), at(1), at(2), at(3)])
     }
     #[inline(always)]
     fn add(self, a: __m128, b: __m128) -> __m128 {
@@ -167,12 +169,13 @@ impl Lanes for Sse2 {
     }
     #[inline(always)]
     fn gather_bytes(self, bytes: &[u8], offsets: __m128i) -> __m128i {
-        let last = bytes.len() - 4;
-        let at = words(offsets).map(|o| {
-            let o = (o as usize).min(last);
+        // Lane by lane, without `array::map`, which does not inline.
+        let (offsets, last) = (words(offsets), bytes.len() - 4);
+        let at = |k: usize| {
+            let o = (offsets[k] as usize).min(last);
             u32::from_le_bytes([bytes[o], bytes[o + 1], bytes[o + 2], bytes[o + 3]])
-        });
-        self.load_u(&at)
+        };
+        self.load_u(&[at(0), at(1), at(2), at(3)])
     }
     #[inline(always)]
     fn int_to_float(self, i: __m128i) -> __m128 {

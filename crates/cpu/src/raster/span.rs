@@ -159,7 +159,7 @@ pub(super) fn fill<B: Blender>(
     match level {
         Level::Portable => at!(Portable, fill_with),
         #[cfg(target_arch = "x86_64")]
-        Level::Sse2(l) => at!(l, fill_with),
+        Level::Sse2(l) => at!(l, fill_sse2),
         // SAFETY: the level's value proves the CPU has the features the function is compiled
         // with (`Level::detect`).
         #[cfg(target_arch = "x86_64")]
@@ -171,6 +171,24 @@ pub(super) fn fill<B: Blender>(
         #[cfg(target_arch = "x86_64")]
         Level::Avx512(l) => unsafe { at!(l, fill_avx512) },
     }
+}
+
+/// [`fill_with`] on SSE2, out of line like the other levels' (inlined, it made [`fill`]'s
+/// dispatch slower on them).
+#[cfg(target_arch = "x86_64")]
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn fill_sse2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
+    l: L,
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    s: &mut SpanScratch,
+    alpha: ModulateAlpha,
+    texels: &PlanarLevel,
+) -> bool {
+    fill_with::<L, B, LINEAR, PLAIN>(l, ctx, b, p, band, s, alpha, texels)
 }
 
 /// [`fill_with`] compiled for AVX2.
