@@ -233,13 +233,14 @@ pub(super) fn fill_sprites<B: Blender>(
                     && span::fill(
                         lanes,
                         linear,
-                        ctx,
-                        b,
+                        span::SpanDraw { ctx, b },
                         &view,
                         band,
                         &mut s.span,
-                        alpha,
-                        planar,
+                        span::SpanTexture {
+                            planes: planar,
+                            alpha,
+                        },
                     )
                 {
                     continue;
