@@ -194,12 +194,18 @@ impl VertexProcessing {
     ) -> Option<Square> {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + self.stride];
-        let w = if self.position_len == 4 {
-            read_f32(v, 12)
-        } else {
-            1.0
+        // Sixteen bytes read at once where the vertex has them; XYZ's fourth float is another
+        // field, and a vertex shorter than 16 bytes is XYZ alone.
+        let position = match v.first_chunk::<16>() {
+            Some(b) => {
+                let f = |k: usize| {
+                    f32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]])
+                };
+                let w = if self.position_len == 4 { f(3) } else { 1.0 };
+                [f(0), f(1), f(2), w]
+            }
+            None => [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), 1.0],
         };
-        let position = [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), w];
         // SPEC 3.1: finite coordinates (`v - v` is 0 exactly for finite `v`).
         let lanes = l.load_part(&position);
         let zero = l.splat(0.0);
@@ -624,13 +630,15 @@ mod tests {
             let fov = rng.range(0.3, 2.0);
             let projection = Mat4::perspective_fov_lh(fov, 1.33, rng.range(0.05, 1.0), 50.0);
             device.set_transform(TransformType::Projection, projection);
-            let fvf = match case % 6 {
+            let fvf = match case % 7 {
                 0 => Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0),
                 1 => Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0),
                 2 => Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0),
                 3 => Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0),
                 4 => Fvf(Fvf::XYZ.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0),
-                _ => Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0),
+                5 => Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0),
+                // Twelve bytes: no fourth float to read with the position.
+                _ => Fvf::XYZ,
             };
             let points = PointSetup::new(device.state(), fvf);
             let fast = VertexProcessing::new(&points).expect("no user clip planes");
