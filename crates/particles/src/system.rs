@@ -33,7 +33,7 @@ use pointillist_core::{Backend, Device, DeviceError, Vertex, XyzPsizeDiffuse};
 use rayon::prelude::*;
 
 use crate::emitter::{ConfigError, Emitter};
-use crate::noise::NoiseField;
+use crate::noise::{Drive, NoiseField};
 use crate::rng::{Rng, mix64};
 
 /// Particles per storage block: the unit of parallel work.
@@ -163,44 +163,40 @@ struct UpdateParams<'a> {
     h: f32,
     gravity: [f32; 3],
     wind: [f32; 3],
-    turbulence: Option<(&'a NoiseField, f32, f32, [f32; 3])>,
+    turbulence: Option<(&'a NoiseField, Drive)>,
 }
 
 /// Ages, kills, moves and packs the `n` live particles of one block; returns the survivors.
 ///
 /// Passes, so that the arithmetic vectorises: [`CHUNK`] particles at a time, their
-/// accelerations (gravity plus the turbulence field, gathered per particle as four lanes), then
-/// their integration in place; then a stable compaction of the survivors that moves whole runs
-/// of them with `copy_within`.
+/// accelerations (gravity plus the turbulence field, [`NoiseField::accelerate`]), then their
+/// integration in place; then a stable compaction of the survivors that moves whole runs of
+/// them with `copy_within`.
 fn update_block(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
     let mut c = Cols::new(block);
     let h = p.h;
-    let [gx, gy, gz] = p.gravity;
     let [wx, wy, wz] = p.wind;
-    let g = [gx, gy, gz, 0.0];
 
-    let mut accel = [[0.0f32; 4]; CHUNK];
+    let mut accel = [[0.0f32; CHUNK]; 3];
     for first in (0..n).step_by(CHUNK) {
         let range = first..n.min(first + CHUNK);
-        let accel = &mut accel[..range.len()];
-        match p.turbulence {
-            Some((field, strength, inv_scale, offset)) => {
-                let (px, py, pz) = (
+        let len = range.len();
+        let [ax, ay, az] = &mut accel;
+        let (ax, ay, az) = (&mut ax[..len], &mut ay[..len], &mut az[..len]);
+        match &p.turbulence {
+            Some((field, drive)) => {
+                let positions = [
                     &c.px[range.clone()],
                     &c.py[range.clone()],
                     &c.pz[range.clone()],
-                );
-                for (i, a) in accel.iter_mut().enumerate() {
-                    let q = [
-                        px[i] * inv_scale + offset[0],
-                        py[i] * inv_scale + offset[1],
-                        pz[i] * inv_scale + offset[2],
-                    ];
-                    let t = field.sample4(q);
-                    *a = std::array::from_fn(|k| g[k] + t[k] * strength);
-                }
+                ];
+                field.accelerate(positions, drive, [&mut *ax, &mut *ay, &mut *az]);
             }
-            None => accel.fill(g),
+            None => {
+                ax.fill(p.gravity[0]);
+                ay.fill(p.gravity[1]);
+                az.fill(p.gravity[2]);
+            }
         }
 
         let (px, py, pz) = (
@@ -214,14 +210,14 @@ fn update_block(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
             &mut c.vz[range.clone()],
         );
         let (age, drag) = (&mut c.age[range.clone()], &c.drag[range.clone()]);
-        for (i, a) in accel.iter().enumerate() {
+        for i in 0..len {
             age[i] += h;
             let k = drag[i];
             // Backward Euler for the drag term: stable for any k * h.
             let relax = 1.0 / (1.0 + k * h);
-            let nvx = (vx[i] + h * (a[0] + k * wx)) * relax;
-            let nvy = (vy[i] + h * (a[1] + k * wy)) * relax;
-            let nvz = (vz[i] + h * (a[2] + k * wz)) * relax;
+            let nvx = (vx[i] + h * (ax[i] + k * wx)) * relax;
+            let nvy = (vy[i] + h * (ay[i] + k * wy)) * relax;
+            let nvz = (vz[i] + h * (az[i] + k * wz)) * relax;
             vx[i] = nvx;
             vy[i] = nvy;
             vz[i] = nvz;
@@ -408,7 +404,13 @@ impl Pool {
             let tb = &e.turbulence;
             let inv_scale = 1.0 / tb.scale;
             let d = (t0 * f64::from(tb.speed) * f64::from(inv_scale)) as f32;
-            (field, tb.strength, inv_scale, DRIFT.map(|c| c * d))
+            let drive = Drive {
+                gravity: e.gravity,
+                strength: tb.strength,
+                inv_scale,
+                offset: DRIFT.map(|c| c * d),
+            };
+            (field, drive)
         });
         let params = UpdateParams {
             h,
