@@ -141,19 +141,64 @@ def test_counted_draws_of_one_colour_equal_one_sequential_draw(client, blend, si
     assert (counts == 255).sum() > 50 and (counts == 0).sum() > 50
 
 
+def holders(client, df):
+    """The worker holding each partition of persisted ``df``, in order."""
+    futures = [f for _, f in sorted((f.key[1], f) for f in distributed.futures_of(df))]
+    who = client.who_has(futures)
+    return [who[f.key][0] for f in futures]
+
+
 def test_partitions_are_grouped_by_the_worker_holding_them(client):
     _, df = frame(1000, 6, 9)
     df = df.persist()
     distributed.wait(df)
-    groups = pointillist.dask._by_worker(df, client)
-    assert sorted(p for g in groups for p in g) == list(range(9))
-    who = client.who_has(client.futures_of(df))
-    holder = {f.key[1]: who[f.key][0] for f in client.futures_of(df)}
-    assert len(groups) == 2
-    for g in groups:
-        assert len({holder[p] for p in g}) == 1
-    # Not persisted: one group, in order.
-    assert pointillist.dask._by_worker(frame(100, 6, 3)[1], client) == [[0, 1, 2]]
+    held = pointillist.dask._held(df, client)
+    assert sorted(held) == sorted(client.scheduler_info()["workers"])
+    assert sorted(p for parts in held.values() for p, _ in parts) == list(range(9))
+    where = holders(client, df)
+    for worker, parts in held.items():
+        assert [p for p, _ in parts] == sorted(p for p, _ in parts)
+        assert all(where[p] == worker for p, _ in parts)
+    # Not persisted, or derived from a persisted frame (other keys): no futures to use.
+    assert pointillist.dask._held(frame(100, 6, 3)[1], client) is None
+    assert pointillist.dask._held(df[df.x > 0.5], client) is None
+    assert pointillist.dask._held(df, None) is None
+
+
+def spread(client, pdf, counts):
+    """``pdf`` in a persisted Dask DataFrame whose partitions lie on the cluster's workers,
+    ``counts[i]`` of them (in a row) on worker ``i``."""
+    workers = sorted(client.scheduler_info()["workers"])
+    n = sum(counts)
+    bounds = np.linspace(0, len(pdf), n + 1).astype(int)
+    on = [w for w, c in zip(workers, counts) for _ in range(c)]
+    futures = [
+        client.scatter(pdf.iloc[bounds[i] : bounds[i + 1]], workers=[w])
+        for i, w in enumerate(on)
+    ]
+    df = dd.from_delayed(futures, meta=pdf.iloc[:0], verify_meta=False).persist()
+    distributed.wait(df)
+    return df, on
+
+
+@pytest.mark.parametrize("counts", [(5, 1), (0, 4), (3, 3)])
+@pytest.mark.parametrize("kind", ["counted", "partial"])
+def test_persisted_partitions_drawn_where_they_lie(client, counts, kind):
+    # One task a worker holding partitions (none on a worker holding none), on that worker;
+    # the result equals the graph's (not persisted) and one sequential draw.
+    pdf, lazy = frame(40_000, 8, sum(counts))
+    df, on = spread(client, pdf, counts)
+    assert holders(client, df) == on
+    kw = dict(width=W, height=H, x_range=(0, 1), y_range=(0, 1), clear=0xFF304050, size="s")
+    kw.update(color=0x01030507) if kind == "counted" else kw.update(color="c")
+    with distributed.get_task_stream(client=client) as ts:
+        got, want = both(pdf, df, client, **kw)
+    assert np.array_equal(got, want)
+    assert np.array_equal(both(pdf, lazy, client, **kw)[0], want)
+    name = "_count_held-" if kind == "counted" else "_partial_held-"
+    ran = [t for t in ts.data if str(t["key"]).startswith(name)]
+    assert sorted(t["worker"] for t in ran) == sorted(set(on))
+    assert not [t for t in ts.data if str(t["key"]).startswith(("_count-", "_partial-"))]
 
 
 def test_repeated_calls_recompute(client):

@@ -142,7 +142,6 @@ def points(
         **common,
     )
     client = _client(client)
-    parts = df.to_delayed()
     # Fresh keys every call (pure=False): a call is never answered by the result of an
     # earlier one that the scheduler has not yet released.
     task = lambda fn, **kw: dask.delayed(fn, pure=False, **kw)  # noqa: E731
@@ -152,24 +151,33 @@ def points(
         and constants["color"] is not None
         and _native._counts(*layout_args[:2], **layout_args[2]) is not None
     )
+    commuting = counted or (blend in ("add", "max") and z is None)
+    held = _held(df, client) if commuting else None
     if counted:
-        groups = [
-            [task(_count)(parts[p], p, columns, constants, common, clear, texture) for p in g]
-            for g in _by_worker(df, client)
-        ]
-        counts = _reduce(task, groups, _add_counts, split_every)
-        total = numpy.asarray(_compute(counts, client))
+        args = (columns, constants, common, clear, texture)
+        if held is not None:
+            # Persisted: one task a worker over the partitions it holds, no graph to build.
+            total = _gather_sum(client, _count_held, held, args, _native._add_counts)
+        else:
+            parts = df.to_delayed()
+            counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
+            total = _compute(_reduce(task, counts, _add_counts, split_every), client)
+        total = numpy.asarray(total)
         return _native._from_counts(total, *layout_args[:2], **layout_args[2]).view(Image)
     if blend in ("add", "max") and z is None:
-        groups = [
-            [task(_partial)(parts[p], p, columns, constants, common, texture) for p in g]
-            for g in _by_worker(df, client)
-        ]
-        images = _reduce(task, groups, functools.partial(_combine, blend=blend), split_every)
-        result = task(_finish)(images, blend, clear)
+        args = (columns, constants, common, texture)
+        if held is not None:
+            combine = functools.partial(_native._combine, blend=blend)
+            image = _gather_sum(client, _partial_held, held, (blend,) + args, combine)
+            return _finish(image, blend, clear).view(Image)
+        parts = df.to_delayed()
+        images = [task(_partial)(parts[p], p, *args) for p in range(len(parts))]
+        combine = functools.partial(_combine, blend=blend)
+        result = task(_finish)(_reduce(task, images, combine, split_every), blend, clear)
     else:
         size_const = constants["size"]
         tiling = dict(common, tile_width=int(tw), tile_height=int(th))
+        parts = df.to_delayed()
         binned = [
             task(_bin, nout=len(rects))(part, p, columns, constants, tiling)
             for p, part in enumerate(parts)
@@ -204,39 +212,70 @@ def _client(client):
     return client
 
 
-def _by_worker(df, client):
-    """The partition indices of ``df`` grouped by the worker that holds them (in order within
-    a group), where ``df`` is persisted on ``client``; otherwise one group of them all."""
-    n = df.npartitions
-    where = {}
-    if client is not None:
-        try:
-            # A persisted collection's futures: one a partition, keyed (name, partition).
-            futures = client.futures_of(df)
-            if sorted(f.key[1] for f in futures) == list(range(n)):
-                who = client.who_has(futures)
-                where = {f.key[1]: who[f.key][0] for f in futures if who.get(f.key)}
-        except Exception:  # any failure only loses locality
-            where = {}
-    groups = {}
-    for p in range(n):
-        groups.setdefault(where.get(p), []).append(p)
-    return list(groups.values())
+def _held(df, client):
+    """Where ``df`` is persisted on ``client`` with every partition in a worker's memory: its
+    partitions as ``{worker: [(index, future), ...]}``, in partition order on each worker;
+    otherwise None (the partitions are computed by ``df``'s graph)."""
+    if client is None:
+        return None
+    try:
+        from distributed import Future
+
+        expr = getattr(df, "expr", None)
+        if expr is not None:
+            # dask-expr: a persisted collection is a FromGraph of the futures, under their
+            # own keys, in partition order; anything derived from it is another expression.
+            if type(expr).__name__ != "FromGraph":
+                return None
+            keys, layer = list(expr.operand("keys")), expr.operand("layer")
+        else:  # the legacy DataFrame: its graph maps its keys to the futures
+            keys, layer = list(df.__dask_keys__()), df.__dask_graph__()
+        ordered = [layer.get(k) for k in keys]
+        if len(ordered) != df.npartitions or not all(isinstance(f, Future) for f in ordered):
+            return None
+        if any(f.status != "finished" for f in ordered):
+            return None
+        who = client.who_has(ordered)
+        held = {}
+        for p, f in enumerate(ordered):
+            workers = who.get(f.key)
+            if not workers:
+                return None
+            held.setdefault(workers[0], []).append((p, f))
+        return held
+    except Exception:  # anything unexpected: the graph computes it as well
+        return None
 
 
-def _reduce(task, groups, combine, split_every):
-    """One task combining every item of ``groups`` (lists of tasks): a tree of ``split_every``
-    items a node within each group (whose items are on one worker), then across groups."""
+def _gather_sum(client, fn, held, args, add):
+    """One task ``fn(*args, indices, *partitions)`` on each worker over the partitions it holds
+    (``_held``), each returning an array; the arrays summed on the client with ``add(dst,
+    src)`` (in place) into the first."""
+    tasks = [
+        client.submit(
+            fn, *args, [p for p, _ in parts], *[f for _, f in parts],
+            workers=[worker],
+            # Should the worker leave, the task runs where the partitions are recomputed.
+            allow_other_workers=True,
+            pure=False,
+        )
+        for worker, parts in held.items()
+    ]
+    arrays = client.gather(tasks)
+    # Arrays received from a worker may be read-only views of the message.
+    out = numpy.require(arrays[0], requirements=["C", "W"])
+    for a in arrays[1:]:
+        add(out, a)
+    return out
 
-    def tree(items):
-        while len(items) > 1:
-            items = [
-                task(combine)(items[i : i + split_every])
-                for i in range(0, len(items), split_every)
-            ]
-        return items[0]
 
-    return tree([tree(g) for g in groups if g])
+def _reduce(task, items, combine, split_every):
+    """One task combining ``items`` (tasks): a tree of ``split_every`` items a node."""
+    while len(items) > 1:
+        items = [
+            task(combine)(items[i : i + split_every]) for i in range(0, len(items), split_every)
+        ]
+    return items[0]
 
 
 def _compute(result, client):
@@ -276,6 +315,31 @@ def _count(part, p, columns, constants, common, clear, texture):
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return counts
+
+
+def _count_held(columns, constants, common, clear, texture, indices, *parts):
+    """The counts of ``parts`` (partitions ``indices``, in a worker's memory), added."""
+    out = None
+    for p, part in zip(indices, parts):
+        counts = _count(part, p, columns, constants, common, clear, texture)
+        if out is None:
+            out = counts
+        else:
+            _native._add_counts(out, counts)
+    return out
+
+
+def _partial_held(blend, columns, constants, common, texture, indices, *parts):
+    """The partial images of ``parts`` (partitions ``indices``, in a worker's memory),
+    combined with ``blend``'s operator."""
+    out = None
+    for p, part in zip(indices, parts):
+        image = _partial(part, p, columns, constants, common, texture)
+        if out is None:
+            out = image
+        else:
+            _native._combine(out, image, blend)
+    return out
 
 
 def _add_counts(counts):
