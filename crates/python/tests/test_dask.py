@@ -201,6 +201,48 @@ def test_persisted_partitions_drawn_where_they_lie(client, counts, kind):
     assert not [t for t in ts.data if str(t["key"]).startswith(("_count-", "_partial-"))]
 
 
+def test_persisted_nan_names_its_partition(client):
+    pdf, _ = frame(300, 9, 3)
+    pdf.loc[110, "x"] = np.nan
+    df, _ = spread(client, pdf, (1, 2))
+    for color in (0xFFFFFFFF, "c"):
+        with pytest.raises(ValueError, match=r"partition 1: x\[10\] is NaN"):
+            pointillist.dask.points(df, color=color, width=8, height=8, client=client)
+
+
+@pytest.mark.parametrize("kind", ["counted", "partial"])
+def test_many_workers_results_reduced_on_the_workers_first(client, kind):
+    # Five (worker, partitions) items with split_every 2: combining tasks on the workers until
+    # two arrays are left, added on the client.
+    pdf, _ = frame(20_000, 10, 5)
+    df, on = spread(client, pdf, (2, 3))
+    held = pointillist.dask._held(df, client)
+    items = [(w, [pf]) for w, parts in held.items() for pf in parts]
+    kw = dict(width=W, height=H, blend="add", x_range=(0, 1), y_range=(0, 1))
+    columns, constants = {"x": "x", "y": "y", "size": "s"}, {"size": None, "color": 0x01030507}
+    if kind == "counted":
+        fn, args = pointillist.dask._count_held, (columns, constants, kw, 0xFF000000, None)
+        combine, add = pointillist.dask._add_counts, pointillist._native._add_counts
+    else:
+        columns["color"], constants["color"] = "c", None
+        fn, args = pointillist.dask._partial_held, ("add", columns, constants, kw, None)
+        combine = lambda a: pointillist.dask._combine(a, "add")  # noqa: E731
+        add = lambda d, s: pointillist._native._combine(d, s, "add")  # noqa: E731
+    with distributed.get_task_stream(client=client) as ts:
+        got = pointillist.dask._gather_sum(client, fn, items, args, combine, add, 2)
+    assert len([t for t in ts.data if "held" in str(t["key"])]) == 5
+    # 5 arrays to 3, 3 to 2.
+    combined = [t for t in ts.data if str(t["key"]).startswith(("lambda", "_add_counts"))]
+    assert len(combined) == 5
+    want = pointillist.dask._gather_sum(client, fn, held.items(), args, combine, add, 8)
+    assert np.array_equal(got, want)
+    if kind == "counted":
+        direct = pointillist._native._counts(
+            pdf["x"].to_numpy(), pdf["y"].to_numpy(), size=pdf["s"].to_numpy(),
+            color=0x01030507, clear=0xFF000000, texture=None, **kw)
+        assert np.array_equal(got, direct)
+
+
 def test_repeated_calls_recompute(client):
     # Every call has fresh keys: a second call is not answered by the first one's result.
     pdf, df = frame(5000, 7, 3)

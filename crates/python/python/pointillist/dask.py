@@ -157,7 +157,9 @@ def points(
         args = (columns, constants, common, clear, texture)
         if held is not None:
             # Persisted: one task a worker over the partitions it holds, no graph to build.
-            total = _gather_sum(client, _count_held, held, args, _native._add_counts)
+            total = _gather_sum(
+                client, _count_held, held.items(), args, _add_counts, _native._add_counts, split_every
+            )
         else:
             parts = df.to_delayed()
             counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
@@ -167,8 +169,11 @@ def points(
     if blend in ("add", "max") and z is None:
         args = (columns, constants, common, texture)
         if held is not None:
-            combine = functools.partial(_native._combine, blend=blend)
-            image = _gather_sum(client, _partial_held, held, (blend,) + args, combine)
+            image = _gather_sum(
+                client, _partial_held, held.items(), (blend,) + args,
+                functools.partial(_combine, blend=blend),
+                functools.partial(_native._combine, blend=blend), split_every,
+            )
             return _finish(image, blend, clear).view(Image)
         parts = df.to_delayed()
         images = [task(_partial)(parts[p], p, *args) for p in range(len(parts))]
@@ -247,10 +252,13 @@ def _held(df, client):
         return None
 
 
-def _gather_sum(client, fn, held, args, add):
-    """One task ``fn(*args, indices, *partitions)`` on each worker over the partitions it holds
-    (``_held``), each returning an array; the arrays summed on the client with ``add(dst,
-    src)`` (in place) into the first."""
+def _gather_sum(client, fn, held, args, combine, add, split_every):
+    """One task ``fn(*args, indices, *partitions)`` for each ``(worker, [(index, future), ...])``
+    of ``held`` (``_held``'s items), on that worker, each returning an array; the arrays combined into one on the client, each
+    added with ``add(dst, src)`` (in place) as it arrives. Beyond ``split_every`` workers,
+    tasks ``combine(arrays)`` first reduce them ``split_every`` a node on the workers."""
+    from distributed import as_completed
+
     tasks = [
         client.submit(
             fn, *args, [p for p, _ in parts], *[f for _, f in parts],
@@ -259,13 +267,21 @@ def _gather_sum(client, fn, held, args, add):
             allow_other_workers=True,
             pure=False,
         )
-        for worker, parts in held.items()
+        for worker, parts in held
     ]
-    arrays = client.gather(tasks)
-    # Arrays received from a worker may be read-only views of the message.
-    out = numpy.require(arrays[0], requirements=["C", "W"])
-    for a in arrays[1:]:
-        add(out, a)
+    while len(tasks) > split_every:
+        tasks = [
+            client.submit(combine, tasks[i : i + split_every], pure=False)
+            for i in range(0, len(tasks), split_every)
+        ]
+    out = None
+    # Added as they arrive: the first arrays travel while the last task runs.
+    for _, array in as_completed(tasks, with_results=True):
+        if out is None:
+            # Arrays received from a worker may be read-only views of the message.
+            out = numpy.require(array, requirements=["C", "W"])
+        else:
+            add(out, array)
     return out
 
 
