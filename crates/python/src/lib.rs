@@ -177,9 +177,11 @@ fn _partial<'py>(
 }
 
 /// The `(height, width)` uint8 counts of the points covering each pixel (`Plot::counts`), or
-/// `None` when the draw is not one of one colour that is counted.
+/// `None` when the draw is not one of one colour that is counted. With `out` (a C-contiguous
+/// `(height, width)` uint8 array) the counts are added to it, saturating, without an array of
+/// their own (`Plot::add_counts_of`), and `out` is returned.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture))]
+#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture, out=None))]
 #[allow(clippy::too_many_arguments)]
 fn _counts<'py>(
     py: Python<'py>,
@@ -194,10 +196,28 @@ fn _counts<'py>(
     y_range: Option<&Bound<'py, PyAny>>,
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
+    out: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
     let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
     let held = Held::new(x, y, None, size, color)?;
     let points = held.points();
+    if let Some(out) = out {
+        let array = count_array("out", out)?;
+        if array.shape() != [height as usize, width as usize] {
+            let shape = array.shape();
+            return Err(PyValueError::new_err(format!(
+                "out has shape ({}, {}), not ({height}, {width})",
+                shape[0], shape[1]
+            )));
+        }
+        let counted = {
+            let mut sum = array.try_readwrite()?;
+            let sum = contiguous(sum.as_slice_mut())?;
+            py.detach(|| plot.add_counts_of(&points, sum))
+                .map_err(plot_error)?
+        };
+        return Ok(counted.then(|| array.into_any()));
+    }
     let Some(counts) = py.detach(|| plot.counts(&points)).map_err(plot_error)? else {
         return Ok(None);
     };

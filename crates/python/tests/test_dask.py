@@ -141,6 +141,29 @@ def test_counted_draws_of_one_colour_equal_one_sequential_draw(client, blend, si
     assert (counts == 255).sum() > 50 and (counts == 0).sum() > 50
 
 
+def test_counts_into_one_array():
+    # _counts(out=...) adds each part's counts to out, saturating: equal to the counts of all.
+    pdf, _ = frame(60_000, 5, 1)
+    x, y, s = (pdf[c].to_numpy() for c in ("x", "y", "s"))
+    kw = dict(color=1, width=40, height=30, blend="add", x_range=(0, 1), y_range=(0, 1),
+              clear=0, texture=None)
+    whole = pointillist._native._counts(x, y, size=s, **kw)
+    out = np.full((30, 40), 3, np.uint8)
+    for rows in (slice(0, 7), slice(7, 40_000), slice(40_000, None)):
+        got = pointillist._native._counts(x[rows], y[rows], size=s[rows], out=out, **kw)
+        assert got is out
+    assert np.array_equal(out, np.minimum(whole.astype(int) + 3, 255))
+    assert (whole == 255).sum() > 50 and ((whole > 0) & (whole < 252)).sum() > 50
+    c = pdf["c"].to_numpy()
+    before = out.copy()
+    assert pointillist._native._counts(x, y, size=s, out=out, **dict(kw, color=c)) is None
+    assert np.array_equal(out, before)
+    with pytest.raises(ValueError, match=r"out has shape \(40, 30\), not \(30, 40\)"):
+        pointillist._native._counts(x, y, size=s, out=np.zeros((40, 30), np.uint8), **kw)
+    with pytest.raises(ValueError, match="out must be C-contiguous"):
+        pointillist._native._counts(x, y, size=s, out=np.zeros((40, 30), np.uint8).T, **kw)
+
+
 def holders(client, df):
     """The worker holding each partition of persisted ``df``, in order."""
     futures = [f for _, f in sorted((f.key[1], f) for f in distributed.futures_of(df))]

@@ -322,11 +322,12 @@ def _partial(part, p, columns, constants, common, texture):
     return numpy.asarray(image)
 
 
-def _count(part, p, columns, constants, common, clear, texture):
+def _count(part, p, columns, constants, common, clear, texture, out=None):
+    """The counts of partition ``p``, or with ``out`` added to it."""
     x, y, _, size, color = _columns(part, p, columns, constants)
     try:
         counts = _native._counts(
-            x, y, size=size, color=color, clear=clear, texture=texture, **common
+            x, y, size=size, color=color, clear=clear, texture=texture, out=out, **common
         )
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
@@ -334,14 +335,11 @@ def _count(part, p, columns, constants, common, clear, texture):
 
 
 def _count_held(columns, constants, common, clear, texture, indices, *parts):
-    """The counts of ``parts`` (partitions ``indices``, in a worker's memory), added."""
-    out = None
+    """The counts of ``parts`` (partitions ``indices``, in a worker's memory), added: each
+    partition is counted into the same array."""
+    out = numpy.zeros((common["height"], common["width"]), numpy.uint8)
     for p, part in zip(indices, parts):
-        counts = _count(part, p, columns, constants, common, clear, texture)
-        if out is None:
-            out = counts
-        else:
-            _native._add_counts(out, counts)
+        _count(part, p, columns, constants, common, clear, texture, out=out)
     return out
 
 
