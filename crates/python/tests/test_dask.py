@@ -164,6 +164,25 @@ def test_counts_into_one_array():
         pointillist._native._counts(x, y, size=s, out=np.zeros((40, 30), np.uint8).T, **kw)
 
 
+def test_tasks_draw_on_their_workers_threads(client):
+    # One thread a worker: the tasks count and draw on a pool of one thread, with the same
+    # result as rayon's global pool.
+    assert client.submit(pointillist.dask._threads, pure=False).result() == 1
+    assert pointillist.dask._threads() is None
+    pdf, _ = frame(400_000, 12, 1)
+    x, y, c = (pdf[k].to_numpy() for k in ("x", "y", "c"))
+    kw = dict(width=W, height=H, blend="add", x_range=(0, 1), y_range=(0, 1), texture=None)
+    counts = pointillist._native._counts(x, y, size=1.5, color=1, clear=0, **kw)
+    image = pointillist._native._partial(x, y, size=1.5, color=c, **kw)
+    for threads in (1, 2, 3):
+        got = pointillist._native._counts(x, y, size=1.5, color=1, clear=0, threads=threads, **kw)
+        assert np.array_equal(got, counts), threads
+        got = pointillist._native._partial(x, y, size=1.5, color=c, threads=threads, **kw)
+        assert np.array_equal(got, image), threads
+    with pytest.raises(ValueError, match="threads must be at least 1"):
+        pointillist._native._counts(x, y, size=1.5, color=1, clear=0, threads=0, **kw)
+
+
 def holders(client, df):
     """The worker holding each partition of persisted ``df``, in order."""
     futures = [f for _, f in sorted((f.key[1], f) for f in distributed.futures_of(df))]

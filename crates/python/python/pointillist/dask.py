@@ -50,6 +50,9 @@ __all__ = ["points"]
 
 _BLENDS = ("add", "alpha", "max", "replace")
 
+# The largest side of a render target (pointillist_core::device::MAX_TARGET_SIZE).
+_MAX_SIDE = 16384
+
 
 def points(
     df,
@@ -129,8 +132,11 @@ def points(
         "color": None if "color" in columns else color,
     }
     common = dict(width=width, height=height, blend=blend, x_range=x_range, y_range=y_range)
-    # Checks the scalar arguments (clear, ranges, texture, size, color) here, before any task.
-    _native.points(
+    # Checks the scalar arguments (clear, ranges, texture, size, color) here, before any task,
+    # with an empty draw on a 1x1 target (one of the full size costs milliseconds); the
+    # full size only when it is out of range, to raise the device's error.
+    check = functools.partial(
+        _native.points,
         numpy.zeros(0, numpy.float32),
         numpy.zeros(0, numpy.float32),
         size=1.0 if constants["size"] is None else constants["size"],
@@ -139,8 +145,11 @@ def points(
         texture=texture,
         backend="cpu",
         z=None,
-        **common,
+        **dict(common, width=1, height=1),
     )
+    check()
+    if not (0 < width <= _MAX_SIDE and 0 < height <= _MAX_SIDE):
+        check(width=width, height=height)
     client = _client(client)
     # Fresh keys every call (pure=False): a call is never answered by the result of an
     # earlier one that the scheduler has not yet released.
@@ -313,10 +322,25 @@ def _named(p, error):
     return type(error)(f"partition {p}: {error}")
 
 
+def _threads():
+    """The number of threads of the ``dask.distributed`` worker running this task, or None
+    outside one. A task draws on that many threads: rayon's global pool has one a core, and
+    worker processes of one thread each, one a core, would otherwise run that many threads
+    each, competing for the same cores."""
+    try:
+        from distributed import get_worker
+
+        return int(get_worker().state.nthreads)
+    except Exception:  # not in a worker (the local scheduler), or an older distributed
+        return None
+
+
 def _partial(part, p, columns, constants, common, texture):
     x, y, _, size, color = _columns(part, p, columns, constants)
     try:
-        image = _native._partial(x, y, size=size, color=color, texture=texture, **common)
+        image = _native._partial(
+            x, y, size=size, color=color, texture=texture, threads=_threads(), **common
+        )
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return numpy.asarray(image)
@@ -327,7 +351,8 @@ def _count(part, p, columns, constants, common, clear, texture, out=None):
     x, y, _, size, color = _columns(part, p, columns, constants)
     try:
         counts = _native._counts(
-            x, y, size=size, color=color, clear=clear, texture=texture, out=out, **common
+            x, y, size=size, color=color, clear=clear, texture=texture, out=out,
+            threads=_threads(), **common
         )
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
