@@ -13,7 +13,8 @@ seconds of the process per round (a side that uses one core shows CPU = wall):
   ``pointillist.points``, 1 M points;
 - dask: ``pointillist.dask.points`` on a two-worker ``LocalCluster`` (one thread each) against
   ``pointillist.points`` in this process, 100 M points in 20 partitions already in the
-  workers' memory (as the scheduler placed them; the split is printed); the two images are
+  workers' memory, ten on each (DASK_PLACEMENT=scheduler: where the scheduler puts them; the
+  split is printed); the two images are
   checked to be equal (every call computes: its keys are fresh, so no result of an earlier
   call is reused). The dask side's CPU is this process's plus the workers'. DASK_ROUNDS
   (default 5) sets the rounds.
@@ -188,7 +189,15 @@ def dask(rounds=int(os.environ.get("DASK_ROUNDS", "5"))):
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     )
     with distributed.Client(cluster) as client:
-        df = dd.from_map(part, range(partitions)).persist()
+        if os.environ.get("DASK_PLACEMENT") == "scheduler":
+            df = dd.from_map(part, range(partitions)).persist()
+        else:
+            # Partition i made on worker i % 2: half the points in each worker's memory.
+            workers = sorted(client.scheduler_info()["workers"])
+            made = [client.submit(part, i, workers=[workers[i % 2]], allow_other_workers=False)
+                    for i in range(partitions)]
+            meta = pd.DataFrame({"x": uniform(0, 0), "y": uniform(0, 0)})
+            df = dd.from_delayed(made, meta=meta, verify_meta=False).persist()
         distributed.wait(df)
         x = np.concatenate([uniform(per, 2 * i + 1) for i in range(partitions)])
         y = np.concatenate([uniform(per, 2 * i + 2) for i in range(partitions)])
@@ -198,6 +207,7 @@ def dask(rounds=int(os.environ.get("DASK_ROUNDS", "5"))):
         assert np.array_equal(np.asarray(one), np.asarray(two)), "dask differs from one process"
 
         held = pointillist.dask._held(df, client)
+        assert held is not None, "df is not persisted"
         print(f"# partitions a worker holds: {sorted(len(p) for p in held.values())}")
 
         def workers_cpu():

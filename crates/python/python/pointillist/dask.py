@@ -2,26 +2,33 @@
 
 :func:`points` draws the rows of a Dask DataFrame on the workers of a ``dask.distributed``
 cluster and returns the same array, bit for bit, as :func:`pointillist.points` on all the rows
-in order. Two strategies, chosen by the blend:
+in order. Three strategies, chosen by the blend:
 
 - **Draws of one colour** ("add", "max" or "replace" with one colour, no depth, no texture)
   give each pixel a colour that depends only on how many points cover it. Each partition
   counts its points per pixel (one byte a pixel, saturating at 255, where every count from
-  255 up gives the same colour); the counts are added, first among the partitions each worker
-  holds, and mapped to colours once, on the client. Addition commutes, so this equals drawing
-  every row in order.
+  255 up gives the same colour); the counts are added, and mapped to colours once, on the
+  client. Addition commutes, so this equals drawing every row in order.
 - **"add" and "max" without depth** commute. Each partition is drawn on its worker onto a zero
   target; the partial images are combined with the blend's exact operator (8-bit saturating
-  addition, or the maximum, channel by channel) in a tree of ``split_every`` images a node,
-  first among the partitions each worker holds, and the clear colour is combined once at the
+  addition, or the maximum, channel by channel), and the clear colour is combined once at the
   end. Saturating addition of non-negative numbers is associative and commutative, so this
   equals drawing every row in order onto the cleared target.
-- **"alpha", "replace" (of several colours), and any draw with depth** depend on the order of the points. The
-  target is cut into screen tiles (sort-first): each partition sends each of its points, as
-  its vertex with its index, to every tile its square overlaps (decided by the same per-point
-  rule the draw uses); each tile draws its points in index order on a target whose viewport
-  is the tile, so every pixel sees the operations of the full draw in the same order; the
-  tiles are assembled on the client.
+- **"alpha", "replace" (of several colours), and any draw with depth** depend on the order of
+  the points. The target is cut into screen tiles (sort-first): each partition sends each of
+  its points, as its vertex with its index, to every tile its square overlaps (decided by the
+  same per-point rule the draw uses); each tile draws its points in index order on a target
+  whose viewport is the tile, so every pixel sees the operations of the full draw in the same
+  order; the tiles are assembled on the client.
+
+For the first two, a ``df`` persisted on the client (``df = df.persist()``, every partition
+in a worker's memory) runs one task on each worker over the partitions it holds (found with
+``who_has``; no task graph is built): it counts them all into one array, or combines their
+images, and the client adds the workers' results as they arrive (beyond ``split_every``
+workers, tasks on the workers combine them first). Any other ``df`` (not persisted, or
+derived from a persisted one) is computed by its graph: one task a partition, reduced in a
+tree of ``split_every`` a node. A task draws on as many threads as its worker has, not one a
+core: worker processes of one thread each, one a core, would otherwise compete for the cores.
 
 The data-to-pixel formula, the vertices and the states are those of :func:`pointillist.points`
 (one implementation, in Rust, runs on every worker). The workers need the ``pointillist``
@@ -81,6 +88,8 @@ def points(
     Parameters
     ----------
     df : dask.dataframe.DataFrame
+        When it is persisted (``df.persist()``), draws of one colour and "add" and "max" draws
+        run one task a worker, without a task graph (see the module's description).
     x, y : str
         Column names of the positions.
     size : str or float
@@ -94,7 +103,8 @@ def points(
     tile_size : int or (int, int)
         The side of the screen tiles of the order-dependent strategy, in pixels.
     split_every : int
-        Partial images (or counts) combined per node of the reduction tree.
+        Partial images (or counts) combined per node of the reduction tree (of the partitions
+        of a ``df`` that is not persisted, or of the workers' results of one that is).
     client : dask.distributed.Client or None
         The client to compute on; by default the active one (``distributed.default_client``),
         or Dask's local scheduler when there is none.
