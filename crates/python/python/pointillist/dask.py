@@ -177,7 +177,8 @@ def points(
         if held is not None:
             # Persisted: one task a worker over the partitions it holds, no graph to build.
             total = _gather_sum(
-                client, _count_held, held.items(), args, _add_counts, _native._add_counts, split_every
+                client, _count_held, held.items(), args, _add_counts, _native._add_counts,
+                split_every,
             )
         else:
             parts = df.to_delayed()
@@ -266,16 +267,17 @@ def _held(df, client):
             if not workers:
                 return None
             held.setdefault(workers[0], []).append((p, f))
-        return held
+        return held or None
     except Exception:  # anything unexpected: the graph computes it as well
         return None
 
 
 def _gather_sum(client, fn, held, args, combine, add, split_every):
-    """One task ``fn(*args, indices, *partitions)`` for each ``(worker, [(index, future), ...])``
-    of ``held`` (``_held``'s items), on that worker, each returning an array; the arrays combined into one on the client, each
-    added with ``add(dst, src)`` (in place) as it arrives. Beyond ``split_every`` workers,
-    tasks ``combine(arrays)`` first reduce them ``split_every`` a node on the workers."""
+    """One task ``fn(*args, indices, *partitions)`` for each ``(worker, [(index, future),
+    ...])`` of ``held`` (``_held``'s items), on that worker, each returning an array; the
+    arrays combined into one on the client, each added with ``add(dst, src)`` (in place) as
+    it arrives. Beyond ``split_every`` tasks, tasks ``combine(arrays)`` on the workers first
+    reduce them ``split_every`` a node."""
     from distributed import as_completed
 
     tasks = [
