@@ -48,6 +48,7 @@
 mod curve;
 mod emitter;
 mod noise;
+mod pool;
 pub mod presets;
 mod rng;
 mod system;

@@ -86,10 +86,32 @@ pub(crate) fn counted(plot: &Plot, points: &Points<'_>) -> Option<[u32; 256]> {
 /// The number of points covering each pixel, saturating at 255, row by row, for a draw
 /// [`counted`] accepts.
 pub(crate) fn count(plot: &Plot, points: &Points<'_>) -> Result<Vec<u8>, PlotError> {
+    let mut image = vec![0u8; plot.width as usize * plot.height as usize];
+    count_into(plot, points, &mut image)?;
+    Ok(image)
+}
+
+/// Adds to `sum` (one byte a pixel, row by row) the number of points covering each pixel,
+/// saturating at 255, for a draw [`counted`] accepts. The first thread counts into `sum` itself
+/// (a saturating increment of a count gives the saturated sum): one thread allocates nothing.
+/// On an error `sum` holds part of the counts.
+pub(crate) fn count_into(
+    plot: &Plot,
+    points: &Points<'_>,
+    sum: &mut [u8],
+) -> Result<(), PlotError> {
     let layout = points.layout();
     let state = plot.device_state(&layout);
     let setup = DrawSetup::new(&state, layout.fvf());
     let pixels = plot.width as usize * plot.height as usize;
+    if sum.len() != pixels {
+        return Err(PlotError::Value(format!(
+            "{} counts for a {}x{} target",
+            sum.len(),
+            plot.width,
+            plot.height
+        )));
+    }
     let n = points.count()?;
     let images = rayon::current_num_threads()
         .min(n / MIN_POINTS_A_IMAGE)
@@ -97,16 +119,19 @@ pub(crate) fn count(plot: &Plot, points: &Points<'_>) -> Result<Vec<u8>, PlotErr
         .max(1);
     let counter = Counter::new(&setup.points, plot.axes()?, plot.width, points);
     if images == 1 {
-        let mut image = vec![0u8; pixels];
         let nan = (0..n)
             .step_by(TASK_POINTS)
-            .fold(false, |nan, start| nan | counter.task(start, n, &mut image));
+            .fold(false, |nan, start| nan | counter.task(start, n, sum));
         if nan {
             return Err(columns::first_nan(points, 0));
         }
-        return Ok(image);
+        return Ok(());
     }
-    let images: Vec<Mutex<Vec<u8>>> = (0..images).map(|_| Mutex::new(vec![0u8; pixels])).collect();
+    let mut extra: Vec<Vec<u8>> = (1..images).map(|_| vec![0u8; pixels]).collect();
+    let images: Vec<Mutex<&mut [u8]>> = std::iter::once(sum)
+        .chain(extra.iter_mut().map(Vec::as_mut_slice))
+        .map(Mutex::new)
+        .collect();
     let nan = (0..n.div_ceil(TASK_POINTS))
         .into_par_iter()
         .map(|task| {
@@ -124,11 +149,12 @@ pub(crate) fn count(plot: &Plot, points: &Points<'_>) -> Result<Vec<u8>, PlotErr
     let mut images = images
         .into_iter()
         .map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()));
-    let mut sum = images.next().unwrap_or_default();
-    for image in images {
-        add(&mut sum, &image);
+    if let Some(sum) = images.next() {
+        for image in images {
+            add(sum, image);
+        }
     }
-    Ok(sum)
+    Ok(())
 }
 
 /// `sum += counts`, saturating at 255: counts of two sets of points give those of both.

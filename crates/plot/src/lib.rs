@@ -278,6 +278,19 @@ impl Plot {
         counts::count(self, points).map(Some)
     }
 
+    /// Adds [`Plot::counts`] of `points` to `sum` (one byte a pixel, row by row), saturating
+    /// at 255, without a count image of their own: `Ok(false)`, with `sum` untouched, when the
+    /// draw is not counted. Counting several parts of the points into one `sum` gives the counts
+    /// of all of them. A `sum` of the wrong size is an error; after any error `sum` may hold
+    /// part of the counts.
+    pub fn add_counts_of(&self, points: &Points<'_>, sum: &mut [u8]) -> Result<bool, PlotError> {
+        self.check(points)?;
+        if counts::counted(self, points).is_none() {
+            return Ok(false);
+        }
+        counts::count_into(self, points, sum).map(|()| true)
+    }
+
     /// `sum += counts` pixel by pixel, saturating at 255 (see [`Plot::counts`]).
     pub fn add_counts(sum: &mut [u8], counts: &[u8]) -> Result<(), PlotError> {
         if sum.len() != counts.len() {

@@ -159,6 +159,70 @@ fn any_thread_count_gives_the_devices_pixels() {
     }
 }
 
+/// `Plot::add_counts_of` counts parts of the points into one sum (the first thread into the sum
+/// itself, others into images of their own): the counts of all the points, on any number of
+/// threads, saturating on top of what the sum held.
+#[test]
+fn counts_of_parts_into_one_sum_on_any_thread_count() {
+    let n = 700_000;
+    let mut s = 11u64;
+    let mut next = move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let x: Vec<f32> = (0..n).map(|_| next() * 1.2 - 0.1).collect();
+    let y: Vec<f32> = (0..n).map(|_| next() * 1.2 - 0.1).collect();
+    let range = Some(DataRange { lo: 0.0, hi: 1.0 });
+    let plot = Plot {
+        x_range: range,
+        y_range: range,
+        ..Plot::new(131, 97)
+    };
+    let part = |rows: std::ops::Range<usize>| Points {
+        size: Sizes::Constant(1.5),
+        color: Colors::Constant(0x0102_0304),
+        ..Points::new(Column::F32(&x[rows.clone()]), Column::F32(&y[rows]))
+    };
+    let all = plot.counts(&part(0..n)).unwrap().unwrap();
+    // Held before: 0 on most pixels, 200 on every seventh, where the sum saturates.
+    let before: Vec<u8> = (0..all.len())
+        .map(|i| if i % 7 == 0 { 200 } else { 0 })
+        .collect();
+    let want: Vec<u8> = before
+        .iter()
+        .zip(&all)
+        .map(|(&b, &c)| b.saturating_add(c))
+        .collect();
+    assert!(all.iter().all(|&c| c < 255) && want.contains(&255));
+    for threads in 1..=4 {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut sum = before.clone();
+        for rows in [300_000..n, 0..1, 1..300_000] {
+            assert!(
+                pool.install(|| plot.add_counts_of(&part(rows), &mut sum))
+                    .unwrap()
+            );
+        }
+        assert!(sum == want, "{threads} threads");
+    }
+    // Not counted (a colour column): false, the sum untouched; a sum of the wrong size.
+    let colours = vec![0u32; n];
+    let mut sum = before.clone();
+    let coloured = Points {
+        color: Colors::Argb(&colours),
+        ..part(0..n)
+    };
+    assert!(!plot.add_counts_of(&coloured, &mut sum).unwrap());
+    assert!(sum == before);
+    let err = plot.add_counts_of(&part(0..n), &mut sum[1..]).unwrap_err();
+    assert_eq!(err.to_string(), "12706 counts for a 131x97 target");
+}
+
 #[test]
 fn nan_is_the_same_error_as_the_devices() {
     let x = [0.5f64, 0.25, 0.75, 0.1];

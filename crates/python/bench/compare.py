@@ -13,8 +13,11 @@ seconds of the process per round (a side that uses one core shows CPU = wall):
   ``pointillist.points``, 1 M points;
 - dask: ``pointillist.dask.points`` on a two-worker ``LocalCluster`` (one thread each) against
   ``pointillist.points`` in this process, 100 M points in 20 partitions already in the
-  workers' memory; the two images are checked to be equal (every call computes: its keys are
-  fresh, so no result of an earlier call is reused).
+  workers' memory, ten on each (DASK_PLACEMENT=scheduler: where the scheduler puts them; the
+  split is printed); the two images are
+  checked to be equal (every call computes: its keys are fresh, so no result of an earlier
+  call is reused). The dask side's CPU is this process's plus the workers'. DASK_ROUNDS
+  (default 5) sets the rounds.
 
 Usage (from the repository root, in a virtual environment with the package,
 datashader, matplotlib, dask[dataframe,distributed] and pandas installed)::
@@ -170,7 +173,7 @@ def matplotlib():
     side_by_side("matplotlib 1 M", "pointillist", points_call(x, y), "matplotlib", scatter, 5)
 
 
-def dask():
+def dask(rounds=int(os.environ.get("DASK_ROUNDS", "5"))):
     import dask.dataframe as dd
     import distributed
     import pandas as pd
@@ -186,7 +189,15 @@ def dask():
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     )
     with distributed.Client(cluster) as client:
-        df = dd.from_map(part, range(partitions)).persist()
+        if os.environ.get("DASK_PLACEMENT") == "scheduler":
+            df = dd.from_map(part, range(partitions)).persist()
+        else:
+            # Partition i made on worker i % 2: half the points in each worker's memory.
+            workers = sorted(client.scheduler_info()["workers"])
+            made = [client.submit(part, i, workers=[workers[i % 2]], allow_other_workers=False)
+                    for i in range(partitions)]
+            meta = pd.DataFrame({"x": uniform(0, 0), "y": uniform(0, 0)})
+            df = dd.from_delayed(made, meta=meta, verify_meta=False).persist()
         distributed.wait(df)
         x = np.concatenate([uniform(per, 2 * i + 1) for i in range(partitions)])
         y = np.concatenate([uniform(per, 2 * i + 2) for i in range(partitions)])
@@ -195,13 +206,23 @@ def dask():
                                       client=client)
         assert np.array_equal(np.asarray(one), np.asarray(two)), "dask differs from one process"
 
+        held = pointillist.dask._held(df, client)
+        assert held is not None, "df is not persisted"
+        print(f"# partitions a worker holds: {sorted(len(p) for p in held.values())}")
+
+        def workers_cpu():
+            return sum(client.run(cpu_seconds).values())
+
         def on_dask():
-            # CPU here is the client's only; the workers' is not counted.
+            # CPU: this process's (the client, and the scheduler LocalCluster runs here) and
+            # the workers', read before and after the call.
+            before = workers_cpu()
             wall, cpu, _ = timed(lambda: pointillist.dask.points(
                 df, width=W, height=H, x_range=RANGE, y_range=RANGE, client=client))
-            return wall, cpu
+            return wall, cpu + workers_cpu() - before
 
-        side_by_side("dask 100 M", "dask 2 workers", on_dask, "one process", points_call(x, y), 5)
+        side_by_side("dask 100 M", "dask 2 workers", on_dask, "one process", points_call(x, y),
+                     rounds)
     cluster.close()
 
 

@@ -12,7 +12,7 @@ mod device;
 mod errors;
 mod scene;
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pointillist_plot::tiles::Tiles;
@@ -148,7 +148,7 @@ fn points<'py>(
 /// The partial image of one part of a draw whose blend commutes: the points drawn onto a
 /// zero target (`Plot::partial`).
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, texture))]
+#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, texture, threads=None))]
 #[allow(clippy::too_many_arguments)]
 fn _partial<'py>(
     py: Python<'py>,
@@ -162,7 +162,9 @@ fn _partial<'py>(
     x_range: Option<&Bound<'py, PyAny>>,
     y_range: Option<&Bound<'py, PyAny>>,
     texture: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let pool = pool(threads)?;
     let zero = 0u32.into_pyobject(py)?.into_any();
     let plot = plot(width, height, blend, x_range, y_range, &zero, texture)?;
     if !plot.blend.commutes() {
@@ -172,14 +174,53 @@ fn _partial<'py>(
     }
     let held = Held::new(x, y, None, size, color)?;
     let points = held.points();
-    let rgba = py.detach(|| plot.render(&points)).map_err(plot_error)?;
+    let rgba = py
+        .detach(|| on(&pool, || plot.render(&points)))
+        .map_err(plot_error)?;
     image(py, rgba, width, height)
 }
 
+/// Rayon pools of a given number of threads, made on first use and kept for the process.
+static POOLS: Mutex<Vec<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(Vec::new());
+
+/// The pool of `threads` threads (`None`: rayon's global pool, as every other call uses).
+fn pool(threads: Option<usize>) -> PyResult<Option<Arc<rayon::ThreadPool>>> {
+    let Some(threads) = threads else {
+        return Ok(None);
+    };
+    if threads == 0 {
+        return Err(PyValueError::new_err("threads must be at least 1"));
+    }
+    let mut pools = POOLS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, pool)) = pools.iter().find(|(n, _)| *n == threads) {
+        return Ok(Some(pool.clone()));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(move |i| format!("pointillist-{threads}-{i}"))
+        .build()
+        .map(Arc::new)
+        .map_err(|e| PyValueError::new_err(format!("cannot start {threads} threads: {e}")))?;
+    pools.push((threads, pool.clone()));
+    Ok(Some(pool))
+}
+
+/// `f` on `pool`, or on the calling thread (rayon's global pool) without one.
+fn on<T: Send>(pool: &Option<Arc<rayon::ThreadPool>>, f: impl FnOnce() -> T + Send) -> T {
+    match pool {
+        Some(pool) => pool.install(f),
+        None => f(),
+    }
+}
+
 /// The `(height, width)` uint8 counts of the points covering each pixel (`Plot::counts`), or
-/// `None` when the draw is not one of one colour that is counted.
+/// `None` when the draw is not one of one colour that is counted. With `out` (a C-contiguous
+/// `(height, width)` uint8 array) the counts are added to it, saturating, without an array of
+/// their own (`Plot::add_counts_of`), and `out` is returned. With `threads`, the counting runs
+/// on a pool of that many threads (a Dask worker's own number of threads) instead of rayon's
+/// global pool of one thread a core.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture))]
+#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture, out=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
 fn _counts<'py>(
     py: Python<'py>,
@@ -194,11 +235,34 @@ fn _counts<'py>(
     y_range: Option<&Bound<'py, PyAny>>,
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
+    out: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let pool = pool(threads)?;
     let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
     let held = Held::new(x, y, None, size, color)?;
     let points = held.points();
-    let Some(counts) = py.detach(|| plot.counts(&points)).map_err(plot_error)? else {
+    if let Some(out) = out {
+        let array = count_array("out", out)?;
+        if array.shape() != [height as usize, width as usize] {
+            let shape = array.shape();
+            return Err(PyValueError::new_err(format!(
+                "out has shape ({}, {}), not ({height}, {width})",
+                shape[0], shape[1]
+            )));
+        }
+        let counted = {
+            let mut sum = array.try_readwrite()?;
+            let sum = contiguous(sum.as_slice_mut())?;
+            py.detach(|| on(&pool, || plot.add_counts_of(&points, sum)))
+                .map_err(plot_error)?
+        };
+        return Ok(counted.then(|| array.into_any()));
+    }
+    let Some(counts) = py
+        .detach(|| on(&pool, || plot.counts(&points)))
+        .map_err(plot_error)?
+    else {
         return Ok(None);
     };
     let array = PyArray1::from_vec(py, counts).reshape([height as usize, width as usize])?;

@@ -141,19 +141,148 @@ def test_counted_draws_of_one_colour_equal_one_sequential_draw(client, blend, si
     assert (counts == 255).sum() > 50 and (counts == 0).sum() > 50
 
 
+def test_counts_into_one_array():
+    # _counts(out=...) adds each part's counts to out, saturating: equal to the counts of all.
+    pdf, _ = frame(60_000, 5, 1)
+    x, y, s = (pdf[c].to_numpy() for c in ("x", "y", "s"))
+    kw = dict(color=1, width=40, height=30, blend="add", x_range=(0, 1), y_range=(0, 1),
+              clear=0, texture=None)
+    whole = pointillist._native._counts(x, y, size=s, **kw)
+    out = np.full((30, 40), 3, np.uint8)
+    for rows in (slice(0, 7), slice(7, 40_000), slice(40_000, None)):
+        got = pointillist._native._counts(x[rows], y[rows], size=s[rows], out=out, **kw)
+        assert got is out
+    assert np.array_equal(out, np.minimum(whole.astype(int) + 3, 255))
+    assert (whole == 255).sum() > 50 and ((whole > 0) & (whole < 252)).sum() > 50
+    c = pdf["c"].to_numpy()
+    before = out.copy()
+    assert pointillist._native._counts(x, y, size=s, out=out, **dict(kw, color=c)) is None
+    assert np.array_equal(out, before)
+    with pytest.raises(ValueError, match=r"out has shape \(40, 30\), not \(30, 40\)"):
+        pointillist._native._counts(x, y, size=s, out=np.zeros((40, 30), np.uint8), **kw)
+    with pytest.raises(ValueError, match="out must be C-contiguous"):
+        pointillist._native._counts(x, y, size=s, out=np.zeros((40, 30), np.uint8).T, **kw)
+
+
+def test_tasks_draw_on_their_workers_threads(client):
+    # One thread a worker: the tasks count and draw on a pool of one thread, with the same
+    # result as rayon's global pool.
+    assert client.submit(pointillist.dask._threads, pure=False).result() == 1
+    assert pointillist.dask._threads() is None
+    pdf, _ = frame(400_000, 12, 1)
+    x, y, c = (pdf[k].to_numpy() for k in ("x", "y", "c"))
+    kw = dict(width=W, height=H, blend="add", x_range=(0, 1), y_range=(0, 1), texture=None)
+    counts = pointillist._native._counts(x, y, size=1.5, color=1, clear=0, **kw)
+    image = pointillist._native._partial(x, y, size=1.5, color=c, **kw)
+    for threads in (1, 2, 3):
+        got = pointillist._native._counts(x, y, size=1.5, color=1, clear=0, threads=threads, **kw)
+        assert np.array_equal(got, counts), threads
+        got = pointillist._native._partial(x, y, size=1.5, color=c, threads=threads, **kw)
+        assert np.array_equal(got, image), threads
+    with pytest.raises(ValueError, match="threads must be at least 1"):
+        pointillist._native._counts(x, y, size=1.5, color=1, clear=0, threads=0, **kw)
+
+
+def holders(client, df):
+    """The worker holding each partition of persisted ``df``, in order."""
+    futures = [f for _, f in sorted((f.key[1], f) for f in distributed.futures_of(df))]
+    who = client.who_has(futures)
+    return [who[f.key][0] for f in futures]
+
+
 def test_partitions_are_grouped_by_the_worker_holding_them(client):
     _, df = frame(1000, 6, 9)
     df = df.persist()
     distributed.wait(df)
-    groups = pointillist.dask._by_worker(df, client)
-    assert sorted(p for g in groups for p in g) == list(range(9))
-    who = client.who_has(client.futures_of(df))
-    holder = {f.key[1]: who[f.key][0] for f in client.futures_of(df)}
-    assert len(groups) == 2
-    for g in groups:
-        assert len({holder[p] for p in g}) == 1
-    # Not persisted: one group, in order.
-    assert pointillist.dask._by_worker(frame(100, 6, 3)[1], client) == [[0, 1, 2]]
+    held = pointillist.dask._held(df, client)
+    assert sorted(held) == sorted(client.scheduler_info()["workers"])
+    assert sorted(p for parts in held.values() for p, _ in parts) == list(range(9))
+    where = holders(client, df)
+    for worker, parts in held.items():
+        assert [p for p, _ in parts] == sorted(p for p, _ in parts)
+        assert all(where[p] == worker for p, _ in parts)
+    # Not persisted, or derived from a persisted frame (other keys): no futures to use.
+    assert pointillist.dask._held(frame(100, 6, 3)[1], client) is None
+    assert pointillist.dask._held(df[df.x > 0.5], client) is None
+    assert pointillist.dask._held(df, None) is None
+
+
+def spread(client, pdf, counts):
+    """``pdf`` in a persisted Dask DataFrame whose partitions lie on the cluster's workers,
+    ``counts[i]`` of them (in a row) on worker ``i``."""
+    workers = sorted(client.scheduler_info()["workers"])
+    n = sum(counts)
+    bounds = np.linspace(0, len(pdf), n + 1).astype(int)
+    on = [w for w, c in zip(workers, counts) for _ in range(c)]
+    futures = [
+        client.scatter(pdf.iloc[bounds[i] : bounds[i + 1]], workers=[w])
+        for i, w in enumerate(on)
+    ]
+    df = dd.from_delayed(futures, meta=pdf.iloc[:0], verify_meta=False).persist()
+    distributed.wait(df)
+    return df, on
+
+
+@pytest.mark.parametrize("counts", [(5, 1), (0, 4), (3, 3)])
+@pytest.mark.parametrize("kind", ["counted", "partial"])
+def test_persisted_partitions_drawn_where_they_lie(client, counts, kind):
+    # One task a worker holding partitions (none on a worker holding none), on that worker;
+    # the result equals the graph's (not persisted) and one sequential draw.
+    pdf, lazy = frame(40_000, 8, sum(counts))
+    df, on = spread(client, pdf, counts)
+    assert holders(client, df) == on
+    kw = dict(width=W, height=H, x_range=(0, 1), y_range=(0, 1), clear=0xFF304050, size="s")
+    kw.update(color=0x01030507) if kind == "counted" else kw.update(color="c")
+    with distributed.get_task_stream(client=client) as ts:
+        got, want = both(pdf, df, client, **kw)
+    assert np.array_equal(got, want)
+    assert np.array_equal(both(pdf, lazy, client, **kw)[0], want)
+    name = "_count_held-" if kind == "counted" else "_partial_held-"
+    ran = [t for t in ts.data if str(t["key"]).startswith(name)]
+    assert sorted(t["worker"] for t in ran) == sorted(set(on))
+    assert not [t for t in ts.data if str(t["key"]).startswith(("_count-", "_partial-"))]
+
+
+def test_persisted_nan_names_its_partition(client):
+    pdf, _ = frame(300, 9, 3)
+    pdf.loc[110, "x"] = np.nan
+    df, _ = spread(client, pdf, (1, 2))
+    for color in (0xFFFFFFFF, "c"):
+        with pytest.raises(ValueError, match=r"partition 1: x\[10\] is NaN"):
+            pointillist.dask.points(df, color=color, width=8, height=8, client=client)
+
+
+@pytest.mark.parametrize("kind", ["counted", "partial"])
+def test_many_workers_results_reduced_on_the_workers_first(client, kind):
+    # Five (worker, partitions) items with split_every 2: combining tasks on the workers until
+    # two arrays are left, added on the client.
+    pdf, _ = frame(20_000, 10, 5)
+    df, on = spread(client, pdf, (2, 3))
+    held = pointillist.dask._held(df, client)
+    items = [(w, [pf]) for w, parts in held.items() for pf in parts]
+    kw = dict(width=W, height=H, blend="add", x_range=(0, 1), y_range=(0, 1))
+    columns, constants = {"x": "x", "y": "y", "size": "s"}, {"size": None, "color": 0x01030507}
+    if kind == "counted":
+        fn, args = pointillist.dask._count_held, (columns, constants, kw, 0xFF000000, None)
+        combine, add = pointillist.dask._add_counts, pointillist._native._add_counts
+    else:
+        columns["color"], constants["color"] = "c", None
+        fn, args = pointillist.dask._partial_held, ("add", columns, constants, kw, None)
+        combine = lambda a: pointillist.dask._combine(a, "add")  # noqa: E731
+        add = lambda d, s: pointillist._native._combine(d, s, "add")  # noqa: E731
+    with distributed.get_task_stream(client=client) as ts:
+        got = pointillist.dask._gather_sum(client, fn, items, args, combine, add, 2)
+    assert len([t for t in ts.data if "held" in str(t["key"])]) == 5
+    # 5 arrays to 3, 3 to 2.
+    combined = [t for t in ts.data if str(t["key"]).startswith(("lambda", "_add_counts"))]
+    assert len(combined) == 5
+    want = pointillist.dask._gather_sum(client, fn, held.items(), args, combine, add, 8)
+    assert np.array_equal(got, want)
+    if kind == "counted":
+        direct = pointillist._native._counts(
+            pdf["x"].to_numpy(), pdf["y"].to_numpy(), size=pdf["s"].to_numpy(),
+            color=0x01030507, clear=0xFF000000, texture=None, **kw)
+        assert np.array_equal(got, direct)
 
 
 def test_repeated_calls_recompute(client):

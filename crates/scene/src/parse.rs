@@ -1,28 +1,29 @@
 //! The walk over the spanned TOML tree that turns a scene file into a [`Scene`].
 
+mod animation;
 mod case;
+mod draw;
 mod lighting;
 mod particles;
+mod texture;
+mod transform;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use pointillist_core::Viewport;
 use pointillist_core::caps::{Caps, VertexProcessing};
-use pointillist_core::fvf::{self, Fvf, FvfError, RowValue};
-use pointillist_core::math::Mat4;
 use pointillist_core::states::{
     Api, EnumType, RenderState, SamplerState, TextureStageState, ValueKind, texture_arg_from_name,
 };
-use pointillist_core::texture::{MAX_TEXTURE_SIZE, Texture};
-use pointillist_core::{MAX_DRAW_VERTICES, TransformType, Viewport};
+use pointillist_core::texture::Texture;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
 use crate::reader::{
-    Fields, Seen, Source, Value, array, boolean, count, entries, expected, fields, finite,
-    finite_in, float, floats, index, integer, integer_in, join, number, one_of, string, table,
-    u32_value,
+    Fields, Seen, Source, Value, boolean, entries, expected, fields, finite, finite_in, float,
+    index, integer, integer_in, join, string, table, u32_value,
 };
 use crate::{
     Command, MAX_EMITTERS, MAX_TARGET_SIZE, MEMORY_BUDGET, Scene, SceneError, Step,
@@ -622,325 +623,6 @@ impl Parser<'_> {
         }
         Ok(())
     }
-
-    fn texture(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
-        let src = &self.src;
-        let f = fields(
-            src,
-            v,
-            path,
-            &["stage", "file", "width", "height", "texels", "none"],
-        )?;
-        let stage = f.require(src, "stage")?;
-        let stage = integer_in(src, stage, &f.path("stage"), 0, MAX_STAGE as i64, false)? as usize;
-        let none = match f.get("none") {
-            Some(v) => boolean(src, v, &f.path("none"))?,
-            None => false,
-        };
-        let inline = ["width", "height", "texels"]
-            .into_iter()
-            .find(|k| f.get(k).is_some());
-        let texture = match (f.get("file"), inline, none) {
-            (None, None, true) => None,
-            (Some(file), None, false) => Some(self.texture_file(file, &f.path("file"))?),
-            (None, Some(_), false) => {
-                let t = self.inline_texture(&f)?;
-                self.charge(Charge::Textures, texture_bytes(&t), v, path, "this texture")?;
-                Some(Arc::new(t))
-            }
-            (None, None, false) => {
-                return Err(src.error(
-                    &f.span,
-                    path,
-                    "missing key `file` (or inline `width`, `height` and `texels`, or `none = true`)",
-                ));
-            }
-            (Some(_), Some(k), _) => {
-                return Err(src.error(
-                    &f.require(src, k)?.span(),
-                    &f.path(k),
-                    format!("`{k}` cannot be given with `file`"),
-                ));
-            }
-            (file, inline, true) => {
-                let k = if file.is_some() {
-                    "file"
-                } else {
-                    inline.unwrap_or("file")
-                };
-                return Err(src.error(
-                    &f.require(src, k)?.span(),
-                    &f.path(k),
-                    format!("`{k}` cannot be given with `none = true`"),
-                ));
-            }
-        };
-        self.push(Command::Texture { stage, texture }, v, path);
-        Ok(())
-    }
-
-    /// Loads (once) the texture file named by `v`, relative to the scene file.
-    fn texture_file(&mut self, v: &Value<'_>, path: &str) -> Result<Arc<Texture>, SceneError> {
-        let name = string(&self.src, v, path)?;
-        let file = self.base.join(name);
-        let key = file.canonicalize().unwrap_or_else(|_| file.clone());
-        if let Some(t) = self.textures.get(&key) {
-            return Ok(Arc::clone(t));
-        }
-        let len = check_readable(&self.src, v, path, &file, "texture")?;
-        self.inputs.push(file.clone());
-        // The file's bytes and the decoder's buffers are held while it is decoded: charged
-        // from the header, before decoding.
-        let before = self.memory;
-        let decoding = len.saturating_add(pointillist_image::texture_decode_bytes(&file));
-        self.charge(
-            Charge::Textures,
-            decoding,
-            v,
-            path,
-            "decoding this texture file",
-        )?;
-        self.memory = before;
-        let texture = pointillist_image::load_texture(&file).map_err(|e| {
-            self.src
-                .error(&v.span(), path, format!("cannot load texture {e}"))
-        })?;
-        self.charge(
-            Charge::Textures,
-            texture_bytes(&texture),
-            v,
-            path,
-            "this texture",
-        )?;
-        let texture = Arc::new(texture);
-        self.textures.insert(key, Arc::clone(&texture));
-        Ok(texture)
-    }
-
-    fn inline_texture(&self, f: &Fields<'_, '_>) -> Result<Texture, SceneError> {
-        let src = &self.src;
-        let side = |key: &str| -> Result<u32, SceneError> {
-            let v = f.require(src, key)?;
-            integer_in(src, v, &f.path(key), 1, MAX_TEXTURE_SIZE.into(), false).map(|n| n as u32)
-        };
-        let (width, height) = (side("width")?, side("height")?);
-        let v = f.require(src, "texels")?;
-        let path = f.path("texels");
-        let list = array(src, v, &path)?;
-        let expected = width as usize * height as usize;
-        if list.len() != expected {
-            return Err(src.error(
-                &v.span(),
-                &path,
-                format!(
-                    "a {width}x{height} texture needs {expected} texels, found {}",
-                    list.len()
-                ),
-            ));
-        }
-        let texels = list
-            .iter()
-            .enumerate()
-            .map(|(i, t)| u32_value(src, t, &index(&path, i)))
-            .collect::<Result<Vec<u32>, _>>()?;
-        Texture::from_argb(width, height, texels)
-            .map_err(|e| src.error(&f.span, &f.path, e.to_string()))
-    }
-
-    fn transforms(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
-        let f = fields(&self.src, v, path, &["world", "view", "projection"])?;
-        for (key, which) in [
-            ("world", TransformType::World),
-            ("view", TransformType::View),
-            ("projection", TransformType::Projection),
-        ] {
-            if let Some(v) = f.get(key) {
-                let path = f.path(key);
-                let m = matrix(&self.src, v, &path)?;
-                self.push(Command::Transform(which, m), v, &path);
-            }
-        }
-        Ok(())
-    }
-
-    /// A viewport change: given fields replace those of the viewport in force (the whole target
-    /// at the top level); when `x` (`y`) is given without `width` (`height`), the viewport
-    /// extends to the right (bottom) edge of the target.
-    fn viewport(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
-        let src = &self.src;
-        let f = fields(
-            src,
-            v,
-            path,
-            &["x", "y", "width", "height", "min_z", "max_z"],
-        )?;
-        let target = self.target;
-        let mut vp = self.viewport.unwrap_or(Viewport {
-            x: 0,
-            y: 0,
-            width: target.width,
-            height: target.height,
-            min_z: 0.0,
-            max_z: 1.0,
-        });
-        for (pos, size, limit, axis) in [
-            ("x", "width", target.width, "width"),
-            ("y", "height", target.height, "height"),
-        ] {
-            let (vp_pos, vp_size) = if pos == "x" {
-                (&mut vp.x, &mut vp.width)
-            } else {
-                (&mut vp.y, &mut vp.height)
-            };
-            let pos_v = f.get(pos);
-            if let Some(v) = pos_v {
-                let n = integer_in(src, v, &f.path(pos), 0, i64::from(limit) - 1, false)?;
-                *vp_pos = n as u32;
-                *vp_size = limit - *vp_pos;
-            }
-            let size_v = f.get(size);
-            if let Some(v) = size_v {
-                let n = integer_in(src, v, &f.path(size), 1, i64::from(limit), false)?;
-                *vp_size = n as u32;
-            }
-            let end = u64::from(*vp_pos) + u64::from(*vp_size);
-            if end > u64::from(limit) {
-                // Only a new size can overrun: a new position alone takes the rest of the target.
-                return Err(src.error(
-                    &size_v.unwrap_or(v).span(),
-                    &f.path(size),
-                    format!("{pos} + {size} = {end} exceeds the target {axis} {limit}"),
-                ));
-            }
-        }
-        if let Some(v) = f.get("min_z") {
-            vp.min_z = finite_in(src, v, &f.path("min_z"), 0.0, 1.0)?;
-        }
-        if let Some(v) = f.get("max_z") {
-            vp.max_z = finite_in(src, v, &f.path("max_z"), 0.0, 1.0)?;
-        }
-        if vp.min_z > vp.max_z {
-            // One of them is new: the viewport in force was valid.
-            let (key, at) = match (f.get("min_z"), f.get("max_z")) {
-                (Some(v), _) => ("min_z", v),
-                (None, Some(v)) => ("max_z", v),
-                (None, None) => ("min_z", v),
-            };
-            let key = f.path(key);
-            return Err(src.error(
-                &at.span(),
-                &key,
-                format!("min_z {} is greater than max_z {}", vp.min_z, vp.max_z),
-            ));
-        }
-        self.viewport = Some(vp);
-        self.push(Command::Viewport(vp), v, path);
-        Ok(())
-    }
-
-    fn clip_plane(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
-        let src = &self.src;
-        let f = fields(src, v, path, &["index", "plane"])?;
-        let i = f.require(src, "index")?;
-        let index = integer_in(src, i, &f.path("index"), 0, MAX_CLIP_PLANE, false)? as usize;
-        let plane = floats::<4>(src, f.require(src, "plane")?, &f.path("plane"))?;
-        self.push(Command::ClipPlane { index, plane }, v, path);
-        Ok(())
-    }
-
-    fn draw(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
-        let f = fields(&self.src, v, path, DRAW_KEYS)?;
-        self.changes(&f, false)?;
-        let src = &self.src;
-        let fvf_v = f.require(src, "fvf")?;
-        let fvf_path = f.path("fvf");
-        let fvf = match fvf_v.get_ref() {
-            DeValue::String(s) => Fvf::parse(s),
-            DeValue::Integer(_) => Fvf(u32_value(src, fvf_v, &fvf_path)?).validate(),
-            _ => return Err(expected(src, fvf_v, &fvf_path, "a string")),
-        }
-        .map_err(|e| src.error(&fvf_v.span(), &fvf_path, e.to_string()))?;
-        let vertices = match (f.get("vertices"), f.get("file")) {
-            (Some(rows), None) => {
-                let key = f.path("vertices");
-                let bytes = encode_rows(src, fvf, rows, &key)?;
-                self.charge(
-                    Charge::Vertices,
-                    bytes.len() as u64,
-                    rows,
-                    &key,
-                    "these vertices",
-                )?;
-                bytes
-            }
-            (None, Some(file)) => self.vertex_file(fvf, file, &f.path("file"))?,
-            (None, None) => {
-                return Err(src.error(&f.span, path, "missing key `vertices` (or `file`)"));
-            }
-            (Some(_), Some(file)) => {
-                return Err(src.error(
-                    &file.span(),
-                    &f.path("file"),
-                    "`file` cannot be given with `vertices`",
-                ));
-            }
-        };
-        self.push(Command::Draw { fvf, vertices }, v, path);
-        Ok(())
-    }
-
-    /// Reads a raw vertex file, after checking from its length that it holds whole vertices, at
-    /// most [`MAX_DRAW_VERTICES`] of them, within [`MEMORY_BUDGET`] (SCENE.md, `file =`).
-    fn vertex_file(&mut self, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<Vec<u8>, SceneError> {
-        let src = &self.src;
-        let name = string(src, v, path)?;
-        let file = self.base.join(name);
-        let len = check_readable(src, v, path, &file, "vertex")?;
-        self.inputs.push(file.clone());
-        let stride = fvf.stride() as u64;
-        if len % stride != 0 {
-            return Err(src.error(
-                &v.span(),
-                path,
-                format!(
-                    "vertex file `{}` holds {len} bytes, not a multiple of the FVF stride {stride}",
-                    file.display(),
-                ),
-            ));
-        }
-        if len / stride > MAX_DRAW_VERTICES as u64 {
-            return Err(src.error(
-                &v.span(),
-                path,
-                format!(
-                    "vertex file `{}` holds {} vertices, above the limit of {MAX_DRAW_VERTICES} \
-                     per draw",
-                    file.display(),
-                    len / stride
-                ),
-            ));
-        }
-        self.charge(Charge::Vertices, len, v, path, "this vertex file")?;
-        let bytes = std::fs::read(&file).map_err(|e| {
-            self.src.error(
-                &v.span(),
-                path,
-                format!("cannot read vertex file `{}`: {e}", file.display()),
-            )
-        })?;
-        if bytes.len() as u64 != len {
-            return Err(self.src.error(
-                &v.span(),
-                path,
-                format!(
-                    "vertex file `{}` changed while it was read ({len} bytes, then {})",
-                    file.display(),
-                    bytes.len()
-                ),
-            ));
-        }
-        Ok(bytes)
-    }
 }
 
 /// The tables of `v`, which is one table (path `path`) or an array of tables (paths
@@ -959,11 +641,6 @@ fn tables<'t, 'i>(
             .collect()),
         _ => Err(expected(src, v, path, "a table or an array of tables")),
     }
-}
-
-/// Bytes a texture holds: every level's texels, 4 bytes each.
-fn texture_bytes(t: &Texture) -> u64 {
-    t.levels().iter().map(|l| l.texels.len() as u64 * 4).sum()
 }
 
 /// The length of `file`, which must be a regular file (so never a device or a pipe that reads
@@ -991,117 +668,6 @@ fn check_readable(
             &v.span(),
             path,
             format!("cannot read {what} file `{}`: {e}", file.display()),
-        )),
-    }
-}
-
-/// Encodes typed vertex rows as FVF bytes.
-fn encode_rows(
-    src: &Source<'_>,
-    fvf: Fvf,
-    v: &Value<'_>,
-    path: &str,
-) -> Result<Vec<u8>, SceneError> {
-    let rows = array(src, v, path)?;
-    if rows.len() > MAX_DRAW_VERTICES {
-        return Err(src.error(
-            &v.span(),
-            path,
-            format!(
-                "{} vertices are above the limit of {MAX_DRAW_VERTICES} per draw",
-                rows.len()
-            ),
-        ));
-    }
-    let mut out = Vec::with_capacity(rows.len() * fvf.stride());
-    let mut row = Vec::new();
-    for (r, rv) in rows.iter().enumerate() {
-        let row_path = index(path, r);
-        let cells = array(src, rv, &row_path)?;
-        row.clear();
-        for (c, cell) in cells.iter().enumerate() {
-            let cell_path = index(&row_path, c);
-            row.push(match cell.get_ref() {
-                DeValue::Integer(_) => RowValue::Int(integer(src, cell, &cell_path)?),
-                DeValue::Float(_) => RowValue::Float(number(src, cell, &cell_path)?),
-                _ => return Err(expected(src, cell, &cell_path, "a number")),
-            });
-        }
-        fvf::encode_row(fvf, &row, &mut out)
-            .map_err(|e: FvfError| src.error(&rv.span(), &row_path, e.to_string()))?;
-    }
-    Ok(out)
-}
-
-/// Reads a 4x4 matrix: rows, `"identity"`, or one of the D3DX constructors.
-fn matrix(src: &Source<'_>, v: &Value<'_>, path: &str) -> Result<Mat4, SceneError> {
-    const MAKERS: &[&str] = &["look_at_lh", "perspective_fov_lh", "ortho_lh"];
-    match v.get_ref() {
-        DeValue::Array(rows) => {
-            if rows.len() != 4 {
-                return Err(src.error(
-                    &v.span(),
-                    path,
-                    format!(
-                        "expected 4 rows of 4 numbers, found {}",
-                        count(rows.len(), "row")
-                    ),
-                ));
-            }
-            let mut m = [[0.0; 4]; 4];
-            for (i, (out, row)) in m.iter_mut().zip(rows.iter()).enumerate() {
-                *out = floats::<4>(src, row, &index(path, i))?;
-            }
-            Ok(Mat4(m))
-        }
-        DeValue::String(s) if s.eq_ignore_ascii_case("identity") => Ok(Mat4::IDENTITY),
-        DeValue::Table(_) => {
-            let (maker, mv, mpath) = one_of(src, v, path, MAKERS)?;
-            let m = match maker {
-                "look_at_lh" => {
-                    let a = fields(src, mv, &mpath, &["eye", "at", "up"])?;
-                    let get = |k: &str| -> Result<[f32; 3], SceneError> {
-                        floats::<3>(src, a.require(src, k)?, &a.path(k))
-                    };
-                    let (eye, at, up) = (get("eye")?, get("at")?, get("up")?);
-                    Mat4::look_at_checked(eye, at, up).map_err(|e| {
-                        let v = a.get(e.key()).unwrap_or(mv);
-                        src.error(&v.span(), &a.path(e.key()), e.to_string())
-                    })?
-                }
-                _ => {
-                    let keys: [&str; 4] = if maker == "ortho_lh" {
-                        ["w", "h", "zn", "zf"]
-                    } else {
-                        ["fovy", "aspect", "zn", "zf"]
-                    };
-                    let a = fields(src, mv, &mpath, &keys)?;
-                    let mut x = [0.0f32; 4];
-                    for (o, k) in x.iter_mut().zip(keys) {
-                        *o = finite(src, a.require(src, k)?, &a.path(k))?;
-                    }
-                    if maker == "ortho_lh" {
-                        Mat4::ortho_lh(x[0], x[1], x[2], x[3])
-                    } else {
-                        Mat4::perspective_fov_lh(x[0], x[1], x[2], x[3])
-                    }
-                }
-            };
-            if m.0.iter().flatten().all(|x| x.is_finite()) {
-                Ok(m)
-            } else {
-                Err(src.error(
-                    &mv.span(),
-                    &mpath,
-                    "these parameters give a matrix with non-finite entries",
-                ))
-            }
-        }
-        _ => Err(expected(
-            src,
-            v,
-            path,
-            "an array of 4 rows, a table or \"identity\"",
         )),
     }
 }

@@ -2,26 +2,33 @@
 
 :func:`points` draws the rows of a Dask DataFrame on the workers of a ``dask.distributed``
 cluster and returns the same array, bit for bit, as :func:`pointillist.points` on all the rows
-in order. Two strategies, chosen by the blend:
+in order. Three strategies, chosen by the blend:
 
 - **Draws of one colour** ("add", "max" or "replace" with one colour, no depth, no texture)
   give each pixel a colour that depends only on how many points cover it. Each partition
   counts its points per pixel (one byte a pixel, saturating at 255, where every count from
-  255 up gives the same colour); the counts are added, first among the partitions each worker
-  holds, and mapped to colours once, on the client. Addition commutes, so this equals drawing
-  every row in order.
+  255 up gives the same colour); the counts are added, and mapped to colours once, on the
+  client. Addition commutes, so this equals drawing every row in order.
 - **"add" and "max" without depth** commute. Each partition is drawn on its worker onto a zero
   target; the partial images are combined with the blend's exact operator (8-bit saturating
-  addition, or the maximum, channel by channel) in a tree of ``split_every`` images a node,
-  first among the partitions each worker holds, and the clear colour is combined once at the
+  addition, or the maximum, channel by channel), and the clear colour is combined once at the
   end. Saturating addition of non-negative numbers is associative and commutative, so this
   equals drawing every row in order onto the cleared target.
-- **"alpha", "replace" (of several colours), and any draw with depth** depend on the order of the points. The
-  target is cut into screen tiles (sort-first): each partition sends each of its points, as
-  its vertex with its index, to every tile its square overlaps (decided by the same per-point
-  rule the draw uses); each tile draws its points in index order on a target whose viewport
-  is the tile, so every pixel sees the operations of the full draw in the same order; the
-  tiles are assembled on the client.
+- **"alpha", "replace" (of several colours), and any draw with depth** depend on the order of
+  the points. The target is cut into screen tiles (sort-first): each partition sends each of
+  its points, as its vertex with its index, to every tile its square overlaps (decided by the
+  same per-point rule the draw uses); each tile draws its points in index order on a target
+  whose viewport is the tile, so every pixel sees the operations of the full draw in the same
+  order; the tiles are assembled on the client.
+
+For the first two, a ``df`` persisted on the client (``df = df.persist()``, every partition
+in a worker's memory) runs one task on each worker over the partitions it holds (found with
+``who_has``; no task graph is built): it counts them all into one array, or combines their
+images, and the client adds the workers' results as they arrive (beyond ``split_every``
+workers, tasks on the workers combine them first). Any other ``df`` (not persisted, or
+derived from a persisted one) is computed by its graph: one task a partition, reduced in a
+tree of ``split_every`` a node. A task draws on as many threads as its worker has, not one a
+core: worker processes of one thread each, one a core, would otherwise compete for the cores.
 
 The data-to-pixel formula, the vertices and the states are those of :func:`pointillist.points`
 (one implementation, in Rust, runs on every worker). The workers need the ``pointillist``
@@ -49,6 +56,9 @@ from ._image import Image
 __all__ = ["points"]
 
 _BLENDS = ("add", "alpha", "max", "replace")
+
+# The largest side of a render target (pointillist_core::device::MAX_TARGET_SIZE).
+_MAX_SIDE = 16384
 
 
 def points(
@@ -78,6 +88,8 @@ def points(
     Parameters
     ----------
     df : dask.dataframe.DataFrame
+        When it is persisted (``df.persist()``), draws of one colour and "add" and "max" draws
+        run one task a worker, without a task graph (see the module's description).
     x, y : str
         Column names of the positions.
     size : str or float
@@ -91,7 +103,8 @@ def points(
     tile_size : int or (int, int)
         The side of the screen tiles of the order-dependent strategy, in pixels.
     split_every : int
-        Partial images (or counts) combined per node of the reduction tree.
+        Partial images (or counts) combined per node of the reduction tree (of the partitions
+        of a ``df`` that is not persisted, or of the workers' results of one that is).
     client : dask.distributed.Client or None
         The client to compute on; by default the active one (``distributed.default_client``),
         or Dask's local scheduler when there is none.
@@ -129,8 +142,11 @@ def points(
         "color": None if "color" in columns else color,
     }
     common = dict(width=width, height=height, blend=blend, x_range=x_range, y_range=y_range)
-    # Checks the scalar arguments (clear, ranges, texture, size, color) here, before any task.
-    _native.points(
+    # Checks the scalar arguments (clear, ranges, texture, size, color) here, before any task,
+    # with an empty draw on a 1x1 target (one of the full size costs milliseconds); the
+    # full size only when it is out of range, to raise the device's error.
+    check = functools.partial(
+        _native.points,
         numpy.zeros(0, numpy.float32),
         numpy.zeros(0, numpy.float32),
         size=1.0 if constants["size"] is None else constants["size"],
@@ -139,10 +155,12 @@ def points(
         texture=texture,
         backend="cpu",
         z=None,
-        **common,
+        **dict(common, width=1, height=1),
     )
+    check()
+    if not (0 < width <= _MAX_SIDE and 0 < height <= _MAX_SIDE):
+        check(width=width, height=height)
     client = _client(client)
-    parts = df.to_delayed()
     # Fresh keys every call (pure=False): a call is never answered by the result of an
     # earlier one that the scheduler has not yet released.
     task = lambda fn, **kw: dask.delayed(fn, pure=False, **kw)  # noqa: E731
@@ -152,24 +170,39 @@ def points(
         and constants["color"] is not None
         and _native._counts(*layout_args[:2], **layout_args[2]) is not None
     )
+    commuting = counted or (blend in ("add", "max") and z is None)
+    held = _held(df, client) if commuting else None
     if counted:
-        groups = [
-            [task(_count)(parts[p], p, columns, constants, common, clear, texture) for p in g]
-            for g in _by_worker(df, client)
-        ]
-        counts = _reduce(task, groups, _add_counts, split_every)
-        total = numpy.asarray(_compute(counts, client))
+        args = (columns, constants, common, clear, texture)
+        if held is not None:
+            # Persisted: one task a worker over the partitions it holds, no graph to build.
+            total = _gather_sum(
+                client, _count_held, held.items(), args, _add_counts, _native._add_counts,
+                split_every,
+            )
+        else:
+            parts = df.to_delayed()
+            counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
+            total = _compute(_reduce(task, counts, _add_counts, split_every), client)
+        total = numpy.asarray(total)
         return _native._from_counts(total, *layout_args[:2], **layout_args[2]).view(Image)
     if blend in ("add", "max") and z is None:
-        groups = [
-            [task(_partial)(parts[p], p, columns, constants, common, texture) for p in g]
-            for g in _by_worker(df, client)
-        ]
-        images = _reduce(task, groups, functools.partial(_combine, blend=blend), split_every)
-        result = task(_finish)(images, blend, clear)
+        args = (columns, constants, common, texture)
+        if held is not None:
+            image = _gather_sum(
+                client, _partial_held, held.items(), (blend,) + args,
+                functools.partial(_combine, blend=blend),
+                functools.partial(_native._combine, blend=blend), split_every,
+            )
+            return _finish(image, blend, clear).view(Image)
+        parts = df.to_delayed()
+        images = [task(_partial)(parts[p], p, *args) for p in range(len(parts))]
+        combine = functools.partial(_combine, blend=blend)
+        result = task(_finish)(_reduce(task, images, combine, split_every), blend, clear)
     else:
         size_const = constants["size"]
         tiling = dict(common, tile_width=int(tw), tile_height=int(th))
+        parts = df.to_delayed()
         binned = [
             task(_bin, nout=len(rects))(part, p, columns, constants, tiling)
             for p, part in enumerate(parts)
@@ -204,39 +237,82 @@ def _client(client):
     return client
 
 
-def _by_worker(df, client):
-    """The partition indices of ``df`` grouped by the worker that holds them (in order within
-    a group), where ``df`` is persisted on ``client``; otherwise one group of them all."""
-    n = df.npartitions
-    where = {}
-    if client is not None:
-        try:
-            # A persisted collection's futures: one a partition, keyed (name, partition).
-            futures = client.futures_of(df)
-            if sorted(f.key[1] for f in futures) == list(range(n)):
-                who = client.who_has(futures)
-                where = {f.key[1]: who[f.key][0] for f in futures if who.get(f.key)}
-        except Exception:  # any failure only loses locality
-            where = {}
-    groups = {}
-    for p in range(n):
-        groups.setdefault(where.get(p), []).append(p)
-    return list(groups.values())
+def _held(df, client):
+    """Where ``df`` is persisted on ``client`` with every partition in a worker's memory: its
+    partitions as ``{worker: [(index, future), ...]}``, in partition order on each worker;
+    otherwise None (the partitions are computed by ``df``'s graph)."""
+    if client is None:
+        return None
+    try:
+        from distributed import Future
+
+        expr = getattr(df, "expr", None)
+        if expr is not None:
+            # dask-expr: a persisted collection is a FromGraph of the futures, under their
+            # own keys, in partition order; anything derived from it is another expression.
+            if type(expr).__name__ != "FromGraph":
+                return None
+            keys, layer = list(expr.operand("keys")), expr.operand("layer")
+        else:  # the legacy DataFrame: its graph maps its keys to the futures
+            keys, layer = list(df.__dask_keys__()), df.__dask_graph__()
+        ordered = [layer.get(k) for k in keys]
+        if len(ordered) != df.npartitions or not all(isinstance(f, Future) for f in ordered):
+            return None
+        if any(f.status != "finished" for f in ordered):
+            return None
+        who = client.who_has(ordered)
+        held = {}
+        for p, f in enumerate(ordered):
+            workers = who.get(f.key)
+            if not workers:
+                return None
+            held.setdefault(workers[0], []).append((p, f))
+        return held or None
+    except Exception:  # anything unexpected: the graph computes it as well
+        return None
 
 
-def _reduce(task, groups, combine, split_every):
-    """One task combining every item of ``groups`` (lists of tasks): a tree of ``split_every``
-    items a node within each group (whose items are on one worker), then across groups."""
+def _gather_sum(client, fn, held, args, combine, add, split_every):
+    """One task ``fn(*args, indices, *partitions)`` for each ``(worker, [(index, future),
+    ...])`` of ``held`` (``_held``'s items), on that worker, each returning an array; the
+    arrays combined into one on the client, each added with ``add(dst, src)`` (in place) as
+    it arrives. Beyond ``split_every`` tasks, tasks ``combine(arrays)`` on the workers first
+    reduce them ``split_every`` a node."""
+    from distributed import as_completed
 
-    def tree(items):
-        while len(items) > 1:
-            items = [
-                task(combine)(items[i : i + split_every])
-                for i in range(0, len(items), split_every)
-            ]
-        return items[0]
+    tasks = [
+        client.submit(
+            fn, *args, [p for p, _ in parts], *[f for _, f in parts],
+            workers=[worker],
+            # Should the worker leave, the task runs where the partitions are recomputed.
+            allow_other_workers=True,
+            pure=False,
+        )
+        for worker, parts in held
+    ]
+    while len(tasks) > split_every:
+        tasks = [
+            client.submit(combine, tasks[i : i + split_every], pure=False)
+            for i in range(0, len(tasks), split_every)
+        ]
+    out = None
+    # Added as they arrive: the first arrays travel while the last task runs.
+    for _, array in as_completed(tasks, with_results=True):
+        if out is None:
+            # Arrays received from a worker may be read-only views of the message.
+            out = numpy.require(array, requirements=["C", "W"])
+        else:
+            add(out, array)
+    return out
 
-    return tree([tree(g) for g in groups if g])
+
+def _reduce(task, items, combine, split_every):
+    """One task combining ``items`` (tasks): a tree of ``split_every`` items a node."""
+    while len(items) > 1:
+        items = [
+            task(combine)(items[i : i + split_every]) for i in range(0, len(items), split_every)
+        ]
+    return items[0]
 
 
 def _compute(result, client):
@@ -258,24 +334,63 @@ def _named(p, error):
     return type(error)(f"partition {p}: {error}")
 
 
+def _threads():
+    """The number of threads of the ``dask.distributed`` worker running this task, or None
+    outside one. A task draws on that many threads: rayon's global pool has one a core, and
+    worker processes of one thread each, one a core, would otherwise run that many threads
+    each, competing for the same cores."""
+    try:
+        from distributed import get_worker
+
+        return int(get_worker().state.nthreads)
+    except Exception:  # not in a worker (the local scheduler), or an older distributed
+        return None
+
+
 def _partial(part, p, columns, constants, common, texture):
     x, y, _, size, color = _columns(part, p, columns, constants)
     try:
-        image = _native._partial(x, y, size=size, color=color, texture=texture, **common)
+        image = _native._partial(
+            x, y, size=size, color=color, texture=texture, threads=_threads(), **common
+        )
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return numpy.asarray(image)
 
 
-def _count(part, p, columns, constants, common, clear, texture):
+def _count(part, p, columns, constants, common, clear, texture, out=None):
+    """The counts of partition ``p``, or with ``out`` added to it."""
     x, y, _, size, color = _columns(part, p, columns, constants)
     try:
         counts = _native._counts(
-            x, y, size=size, color=color, clear=clear, texture=texture, **common
+            x, y, size=size, color=color, clear=clear, texture=texture, out=out,
+            threads=_threads(), **common
         )
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return counts
+
+
+def _count_held(columns, constants, common, clear, texture, indices, *parts):
+    """The counts of ``parts`` (partitions ``indices``, in a worker's memory), added: each
+    partition is counted into the same array."""
+    out = numpy.zeros((common["height"], common["width"]), numpy.uint8)
+    for p, part in zip(indices, parts):
+        _count(part, p, columns, constants, common, clear, texture, out=out)
+    return out
+
+
+def _partial_held(blend, columns, constants, common, texture, indices, *parts):
+    """The partial images of ``parts`` (partitions ``indices``, in a worker's memory),
+    combined with ``blend``'s operator."""
+    out = None
+    for p, part in zip(indices, parts):
+        image = _partial(part, p, columns, constants, common, texture)
+        if out is None:
+            out = image
+        else:
+            _native._combine(out, image, blend)
+    return out
 
 
 def _add_counts(counts):

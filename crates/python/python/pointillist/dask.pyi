@@ -29,4 +29,4 @@ def points(
     client: Any = None,
 ) -> Image:
     """The rows of a Dask DataFrame drawn on a dask.distributed cluster, exactly as
-    pointillist.points draws them in order."""
+    pointillist.points draws them in order (a persisted df: one task a worker, no graph)."""

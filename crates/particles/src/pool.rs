@@ -1,0 +1,523 @@
+//! One emitter's particles: the block storage, the step's update of the live ones, their births
+//! and the vertices they write (the rules are in [`crate::system`]'s contract).
+
+use rayon::prelude::*;
+
+use crate::emitter::Emitter;
+use crate::noise::{Drive, NoiseField};
+use crate::rng::{Rng, mix64};
+use crate::system::{BLOCK, COLUMNS, PARALLEL_MIN, VERTEX_STRIDE};
+
+/// Particles whose accelerations an update gathers before integrating them.
+const CHUNK: usize = 64;
+
+/// `f32`s per block.
+const BLOCK_LEN: usize = BLOCK * COLUMNS;
+
+/// The direction the turbulence field drifts along (unit length).
+const DRIFT: [f32; 3] = [0.872_871_6, 0.436_435_8, 0.218_217_9];
+
+/// One emitter's configuration, storage and counters.
+#[derive(Clone, Debug)]
+pub(crate) struct Pool {
+    pub(crate) emitter: Emitter,
+    pub(crate) index: u32,
+    pub(crate) noise: Option<NoiseField>,
+    /// `counts.len()` blocks of `BLOCK_LEN` floats.
+    pub(crate) data: Vec<f32>,
+    /// Live particles per block, packed at the block's front.
+    pub(crate) counts: Vec<u32>,
+    pub(crate) live: usize,
+    pub(crate) spawned: u64,
+    pub(crate) continuous: u64,
+    pub(crate) dropped: u64,
+}
+
+/// The mutable column slices of one block.
+struct Cols<'a> {
+    px: &'a mut [f32],
+    py: &'a mut [f32],
+    pz: &'a mut [f32],
+    vx: &'a mut [f32],
+    vy: &'a mut [f32],
+    vz: &'a mut [f32],
+    age: &'a mut [f32],
+    life: &'a mut [f32],
+    size: &'a mut [f32],
+    drag: &'a mut [f32],
+    shade: &'a mut [f32],
+}
+
+impl<'a> Cols<'a> {
+    fn new(block: &'a mut [f32]) -> Cols<'a> {
+        let mut c = block.chunks_exact_mut(BLOCK);
+        let mut next = || c.next().expect("a block holds every column");
+        Cols {
+            px: next(),
+            py: next(),
+            pz: next(),
+            vx: next(),
+            vy: next(),
+            vz: next(),
+            age: next(),
+            life: next(),
+            size: next(),
+            drag: next(),
+            shade: next(),
+        }
+    }
+
+    /// Every column, in storage order.
+    fn all(&mut self) -> [&mut [f32]; COLUMNS] {
+        [
+            &mut *self.px,
+            &mut *self.py,
+            &mut *self.pz,
+            &mut *self.vx,
+            &mut *self.vy,
+            &mut *self.vz,
+            &mut *self.age,
+            &mut *self.life,
+            &mut *self.size,
+            &mut *self.drag,
+            &mut *self.shade,
+        ]
+    }
+}
+
+/// The constants of one emitter's update during one step.
+struct UpdateParams<'a> {
+    h: f32,
+    gravity: [f32; 3],
+    wind: [f32; 3],
+    turbulence: Option<(&'a NoiseField, Drive)>,
+}
+
+/// Ages, kills, moves and packs the `n` live particles of one block; returns the survivors.
+///
+/// Passes, so that the arithmetic vectorises: [`CHUNK`] particles at a time, their
+/// accelerations (gravity plus the turbulence field, [`NoiseField::accelerate`]), then their
+/// integration in place; then a stable compaction of the survivors that moves whole runs of
+/// them with `copy_within`.
+fn update_block(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
+    let mut c = Cols::new(block);
+    let h = p.h;
+    let [wx, wy, wz] = p.wind;
+
+    let mut accel = [[0.0f32; CHUNK]; 3];
+    for first in (0..n).step_by(CHUNK) {
+        let range = first..n.min(first + CHUNK);
+        let len = range.len();
+        let [ax, ay, az] = &mut accel;
+        let (ax, ay, az) = (&mut ax[..len], &mut ay[..len], &mut az[..len]);
+        match &p.turbulence {
+            Some((field, drive)) => {
+                let positions = [
+                    &c.px[range.clone()],
+                    &c.py[range.clone()],
+                    &c.pz[range.clone()],
+                ];
+                field.accelerate(positions, drive, [&mut *ax, &mut *ay, &mut *az]);
+            }
+            None => {
+                ax.fill(p.gravity[0]);
+                ay.fill(p.gravity[1]);
+                az.fill(p.gravity[2]);
+            }
+        }
+
+        let (px, py, pz) = (
+            &mut c.px[range.clone()],
+            &mut c.py[range.clone()],
+            &mut c.pz[range.clone()],
+        );
+        let (vx, vy, vz) = (
+            &mut c.vx[range.clone()],
+            &mut c.vy[range.clone()],
+            &mut c.vz[range.clone()],
+        );
+        let (age, drag) = (&mut c.age[range.clone()], &c.drag[range.clone()]);
+        for i in 0..len {
+            age[i] += h;
+            let k = drag[i];
+            // Backward Euler for the drag term: stable for any k * h.
+            let relax = 1.0 / (1.0 + k * h);
+            let nvx = (vx[i] + h * (ax[i] + k * wx)) * relax;
+            let nvy = (vy[i] + h * (ay[i] + k * wy)) * relax;
+            let nvz = (vz[i] + h * (az[i] + k * wz)) * relax;
+            vx[i] = nvx;
+            vy[i] = nvy;
+            vz[i] = nvz;
+            px[i] += nvx * h;
+            py[i] += nvy * h;
+            pz[i] += nvz * h;
+        }
+    }
+
+    let alive = |c: &Cols<'_>, i: usize| c.age[i] < c.life[i];
+    let Some(first) = (0..n).find(|&i| !alive(&c, i)) else {
+        return n;
+    };
+    let mut w = first;
+    let mut i = first + 1;
+    while i < n {
+        if !alive(&c, i) {
+            i += 1;
+            continue;
+        }
+        let run = i;
+        while i < n && alive(&c, i) {
+            i += 1;
+        }
+        // Writes land below `run`, so the ages and lifetimes still to be read are intact.
+        for col in c.all() {
+            col.copy_within(run..i, w);
+        }
+        w += i - run;
+    }
+    w
+}
+
+/// Float to 8-bit unorm: saturate, then round half up (as `f32::round` does for these
+/// non-negative values, without its libm call).
+#[inline]
+fn unorm8(v: f32) -> u32 {
+    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u32
+}
+
+/// Writes the vertices of the `n` live particles of one block into `out` (`n` vertices long).
+fn write_block(block: &[f32], n: usize, e: &Emitter, out: &mut [u8]) {
+    let col = |k: usize| &block[k * BLOCK..k * BLOCK + n];
+    let (px, py, pz) = (col(0), col(1), col(2));
+    let (age, life, size, shade) = (col(6), col(7), col(8), col(10));
+    for (i, v) in out.chunks_exact_mut(VERTEX_STRIDE).enumerate().take(n) {
+        let t = age[i] / life[i];
+        let s = size[i] * e.size_over_life.eval(t);
+        let rgba = e.color_over_life.eval(t);
+        let b = shade[i];
+        let argb = unorm8(rgba[3]) << 24
+            | unorm8(rgba[0] * b) << 16
+            | unorm8(rgba[1] * b) << 8
+            | unorm8(rgba[2] * b);
+        let words = [
+            px[i].to_bits(),
+            py[i].to_bits(),
+            pz[i].to_bits(),
+            s.to_bits(),
+            argb,
+        ];
+        let mut bytes = [0u8; VERTEX_STRIDE];
+        for (dst, w) in bytes.chunks_exact_mut(4).zip(words) {
+            dst.copy_from_slice(&w.to_le_bytes());
+        }
+        v.copy_from_slice(&bytes);
+    }
+}
+
+/// Writes the blocks' vertices into `out`, which holds exactly their live particles; splits
+/// the work in halves with `rayon::join` when `parallel`.
+fn write_blocks(data: &[f32], counts: &[u32], e: &Emitter, out: &mut [u8], parallel: bool) {
+    if !parallel || counts.len() <= 2 {
+        let mut offset = 0;
+        for (block, &n) in data.chunks_exact(BLOCK_LEN).zip(counts) {
+            let len = n as usize * VERTEX_STRIDE;
+            write_block(block, n as usize, e, &mut out[offset..offset + len]);
+            offset += len;
+        }
+        return;
+    }
+    let mid = counts.len() / 2;
+    let left: usize = counts[..mid].iter().map(|&n| n as usize).sum();
+    let (out_l, out_r) = out.split_at_mut(left * VERTEX_STRIDE);
+    let (data_l, data_r) = data.split_at(mid * BLOCK_LEN);
+    rayon::join(
+        || write_blocks(data_l, &counts[..mid], e, out_l, parallel),
+        || write_blocks(data_r, &counts[mid..], e, out_r, parallel),
+    );
+}
+
+/// A newly born particle's components.
+struct Birth {
+    p: [f32; 3],
+    v: [f32; 3],
+    age: f32,
+    life: f32,
+    size: f32,
+    drag: f32,
+    shade: f32,
+}
+
+fn birth(e: &Emitter, seed: u64, emitter: u32, index: u64, age: f32, centre: [f32; 3]) -> Birth {
+    let mut rng = Rng::for_particle(seed, emitter, index);
+    let offset = e.shape.sample(&mut rng);
+    let mut v = e.velocity.sample(&mut rng);
+    let radial = e.radial_speed.sample(&mut rng);
+    let random_dir = rng.unit_vector();
+    let life = e.lifetime.sample(&mut rng);
+    let size = e.size.sample(&mut rng);
+    let drag = e.drag.sample(&mut rng);
+    let shade = e.brightness.sample(&mut rng);
+    if radial != 0.0 {
+        let len = (offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]).sqrt();
+        let dir = if len > 1e-6 {
+            offset.map(|c| c / len)
+        } else {
+            random_dir
+        };
+        for k in 0..3 {
+            v[k] += dir[k] * radial;
+        }
+    }
+    let mut p = [0.0; 3];
+    for k in 0..3 {
+        p[k] = e.position[k] + centre[k] + offset[k] + v[k] * age;
+    }
+    Birth {
+        p,
+        v,
+        age,
+        life,
+        size,
+        drag,
+        shade,
+    }
+}
+
+impl Pool {
+    pub(crate) fn new(emitter: Emitter, index: u32, seed: u64) -> Pool {
+        let blocks = emitter.max_particles.div_ceil(BLOCK);
+        let noise = (emitter.turbulence.strength > 0.0)
+            .then(|| NoiseField::new(mix64(seed ^ u64::from(index).wrapping_mul(0x9E37))));
+        Pool {
+            emitter,
+            index,
+            noise,
+            data: vec![0.0; blocks * BLOCK_LEN],
+            counts: vec![0; blocks],
+            live: 0,
+            spawned: 0,
+            continuous: 0,
+            dropped: 0,
+        }
+    }
+
+    pub(crate) fn clear(&mut self) {
+        self.counts.fill(0);
+        self.live = 0;
+        self.spawned = 0;
+        self.continuous = 0;
+        self.dropped = 0;
+    }
+
+    /// Continuous births with birth time before `t`.
+    pub(crate) fn continuous_before(&self, t: f64, tol: f64) -> u64 {
+        let e = &self.emitter;
+        let rel = t - tol - f64::from(e.start);
+        if e.rate <= 0.0 || rel <= 0.0 {
+            return 0;
+        }
+        let rate = f64::from(e.rate);
+        let n = (rel * rate).ceil();
+        let total = (f64::from(e.duration) * rate).ceil();
+        n.min(total).min(u64::MAX as f64 / 2.0) as u64
+    }
+
+    pub(crate) fn update(&mut self, h: f32, t0: f64, parallel: bool) {
+        if self.live == 0 {
+            return;
+        }
+        let e = &self.emitter;
+        let turbulence = self.noise.as_ref().map(|field| {
+            let tb = &e.turbulence;
+            let inv_scale = 1.0 / tb.scale;
+            let d = (t0 * f64::from(tb.speed) * f64::from(inv_scale)) as f32;
+            let drive = Drive {
+                gravity: e.gravity,
+                strength: tb.strength,
+                inv_scale,
+                offset: DRIFT.map(|c| c * d),
+            };
+            (field, drive)
+        });
+        let params = UpdateParams {
+            h,
+            gravity: e.gravity,
+            wind: e.wind,
+            turbulence,
+        };
+        let run = |(block, count): (&mut [f32], &mut u32)| {
+            if *count > 0 {
+                *count = update_block(block, *count as usize, &params) as u32;
+            }
+        };
+        if parallel && self.live >= PARALLEL_MIN {
+            self.data
+                .par_chunks_mut(BLOCK_LEN)
+                .zip(self.counts.par_iter_mut())
+                .with_max_len(1)
+                .for_each(run);
+        } else {
+            self.data
+                .chunks_mut(BLOCK_LEN)
+                .zip(self.counts.iter_mut())
+                .for_each(run);
+        }
+        self.live = self.counts.iter().map(|&n| n as usize).sum();
+    }
+
+    /// Places `count` births; `age_of(j)` is the age at the step's end of the `j`-th of them.
+    pub(crate) fn spawn(
+        &mut self,
+        seed: u64,
+        count: u64,
+        centre: [f32; 3],
+        age_of: impl Fn(u64) -> f32,
+        first_block: &mut usize,
+    ) {
+        let room = (self.emitter.max_particles - self.live) as u64;
+        let placed = count.min(room);
+        let mut j = 0;
+        while j < placed {
+            let b = *first_block;
+            let n = self.counts[b] as usize;
+            let free = (BLOCK - n) as u64;
+            if free == 0 {
+                *first_block += 1;
+                continue;
+            }
+            let take = free.min(placed - j) as usize;
+            let c = Cols::new(&mut self.data[b * BLOCK_LEN..(b + 1) * BLOCK_LEN]);
+            for slot in n..n + take {
+                let p = birth(
+                    &self.emitter,
+                    seed,
+                    self.index,
+                    self.spawned,
+                    age_of(j),
+                    centre,
+                );
+                c.px[slot] = p.p[0];
+                c.py[slot] = p.p[1];
+                c.pz[slot] = p.p[2];
+                c.vx[slot] = p.v[0];
+                c.vy[slot] = p.v[1];
+                c.vz[slot] = p.v[2];
+                c.age[slot] = p.age;
+                c.life[slot] = p.life;
+                c.size[slot] = p.size;
+                c.drag[slot] = p.drag;
+                c.shade[slot] = p.shade;
+                self.spawned += 1;
+                j += 1;
+            }
+            self.counts[b] += take as u32;
+            self.live += take;
+        }
+        self.dropped += count - placed;
+        self.spawned += count - placed;
+    }
+
+    /// Places the births of the step `[t0, t1)`; times within `tol` before a step's end count
+    /// as the next step's, so that rounding in `n * h` never moves a birth across steps
+    /// differently on its two sides.
+    pub(crate) fn births(&mut self, seed: u64, t0: f64, t1: f64, tol: f64) {
+        let mut first_block = 0;
+        // Continuous emission: particle k is born at start + k / rate.
+        let target = self.continuous_before(t1, tol);
+        if target > self.continuous {
+            let k0 = self.continuous;
+            let (start, rate) = (f64::from(self.emitter.start), f64::from(self.emitter.rate));
+            let age_of = |j: u64| (t1 - (start + (k0 + j) as f64 / rate)).max(0.0) as f32;
+            self.spawn(seed, target - k0, [0.0; 3], age_of, &mut first_block);
+            self.continuous = target;
+        }
+        for b in 0..self.emitter.bursts.len() {
+            let burst = self.emitter.bursts[b];
+            let (time, interval) = (f64::from(burst.time), f64::from(burst.interval));
+            let (lo, hi) = if burst.cycles == 1 || interval <= 0.0 {
+                if t0 - tol <= time && time < t1 - tol {
+                    (0, 1)
+                } else {
+                    (0, 0)
+                }
+            } else {
+                let first = ((t0 - tol - time) / interval).ceil().max(0.0);
+                let end = ((t1 - tol - time) / interval).ceil().max(0.0);
+                let cap = if burst.cycles == 0 {
+                    f64::MAX
+                } else {
+                    f64::from(burst.cycles)
+                };
+                (first.min(cap) as u64, end.min(cap) as u64)
+            };
+            for cycle in lo..hi {
+                if burst.count == 0 {
+                    break;
+                }
+                if self.live == self.emitter.max_particles {
+                    // Full: this cycle's births and the step's later ones are all dropped,
+                    // counted without walking through them (an interval of 1e-30 s has
+                    // 1e28 cycles a step).
+                    let rest = (hi - cycle).saturating_mul(u64::from(burst.count));
+                    self.dropped = self.dropped.saturating_add(rest);
+                    self.spawned = self.spawned.saturating_add(rest);
+                    break;
+                }
+                let tb = time + cycle as f64 * interval;
+                let mut rng = Rng::for_burst(seed, self.index, b as u32, cycle);
+                let centre = burst.jitter.map(|j| rng.signed() * j);
+                let age = (t1 - tb).max(0.0) as f32;
+                self.spawn(
+                    seed,
+                    u64::from(burst.count),
+                    centre,
+                    |_| age,
+                    &mut first_block,
+                );
+            }
+        }
+    }
+
+    pub(crate) fn vertex_count(&self) -> usize {
+        self.live
+    }
+
+    pub(crate) fn write(&self, out: &mut [u8], parallel: bool) {
+        let parallel = parallel && self.live >= PARALLEL_MIN;
+        write_blocks(&self.data, &self.counts, &self.emitter, out, parallel);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use pointillist_core::{Vertex, XyzPsizeDiffuse};
+
+    use super::*;
+    use crate::system::VERTEX_FVF;
+
+    #[test]
+    fn the_vertex_layout_is_the_seeds() {
+        assert_eq!(VERTEX_FVF.stride(), VERTEX_STRIDE);
+        let mut bytes = Vec::new();
+        XyzPsizeDiffuse {
+            position: [1.0, 2.0, 3.0],
+            psize: 0.5,
+            diffuse: 0xFF10_2030,
+        }
+        .write(&mut bytes);
+        let mut block = vec![0.0; BLOCK_LEN];
+        for (k, v) in [1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.5, 0.0, 1.0]
+            .into_iter()
+            .enumerate()
+        {
+            block[k * BLOCK] = v;
+        }
+        let e = Emitter {
+            color_over_life: crate::Curve::constant(pointillist_core::color::unpack(0xFF10_2030)),
+            ..Emitter::default()
+        };
+        let mut out = vec![0u8; VERTEX_STRIDE];
+        write_block(&block, 1, &e, &mut out);
+        assert_eq!(out, bytes);
+    }
+}
