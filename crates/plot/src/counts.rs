@@ -103,15 +103,7 @@ pub(crate) fn count_into(
     let layout = points.layout();
     let state = plot.device_state(&layout);
     let setup = DrawSetup::new(&state, layout.fvf());
-    let pixels = plot.width as usize * plot.height as usize;
-    if sum.len() != pixels {
-        return Err(PlotError::Value(format!(
-            "{} counts for a {}x{} target",
-            sum.len(),
-            plot.width,
-            plot.height
-        )));
-    }
+    let pixels = check_len(plot, sum)?;
     let n = points.count()?;
     let images = rayon::current_num_threads()
         .min(n / MIN_POINTS_A_IMAGE)
@@ -155,6 +147,20 @@ pub(crate) fn count_into(
         }
     }
     Ok(())
+}
+
+/// The target's pixels, which must be the number of `counts`.
+pub(crate) fn check_len(plot: &Plot, counts: &[u8]) -> Result<usize, PlotError> {
+    let pixels = plot.width as usize * plot.height as usize;
+    if counts.len() != pixels {
+        return Err(PlotError::Value(format!(
+            "{} counts for a {}x{} target",
+            counts.len(),
+            plot.width,
+            plot.height
+        )));
+    }
+    Ok(pixels)
 }
 
 /// `sum += counts`, saturating at 255: counts of two sets of points give those of both.

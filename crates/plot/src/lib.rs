@@ -307,18 +307,10 @@ impl Plot {
     /// The RGBA8 rows of a draw whose [`Plot::counts`] are `counts`; `points` (of any length)
     /// give the draw's layout and colour.
     pub fn from_counts(&self, points: &Points<'_>, counts: &[u8]) -> Result<Vec<u8>, PlotError> {
-        let pixels = self.width as usize * self.height as usize;
         let Some(table) = counts::counted(self, points) else {
             return Err(PlotError::Value("this draw is not counted".into()));
         };
-        if counts.len() != pixels {
-            return Err(PlotError::Value(format!(
-                "{} counts for a {}x{} target",
-                counts.len(),
-                self.width,
-                self.height
-            )));
-        }
+        let pixels = counts::check_len(self, counts)?;
         let mut out = vec![0u8; pixels * 4];
         counts::map(&table, counts, &mut out);
         Ok(out)

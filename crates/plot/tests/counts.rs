@@ -109,13 +109,10 @@ proptest! {
     }
 }
 
-/// Enough points for several count images on 1 to 4 threads, most pixels saturated, some
-/// points on the target's edges and off it, every preset.
-#[test]
-fn any_thread_count_gives_the_devices_pixels() {
-    let n = 700_000;
-    let mut s = 7u64;
-    let mut next = move || {
+/// `n` points scattered over `-0.1..1.1` on both axes (a linear congruential sequence from
+/// `seed`): with a `0..1` data range, some fall on the target's edges and off it.
+fn scattered(n: usize, mut s: u64) -> (Vec<f32>, Vec<f32>) {
+    let mut next = || {
         s = s
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
@@ -123,6 +120,14 @@ fn any_thread_count_gives_the_devices_pixels() {
     };
     let x: Vec<f32> = (0..n).map(|_| next() * 1.2 - 0.1).collect();
     let y: Vec<f32> = (0..n).map(|_| next() * 1.2 - 0.1).collect();
+    (x, y)
+}
+
+/// Enough points for several count images on 1 to 4 threads, most pixels saturated, some
+/// points on the target's edges and off it, every preset.
+#[test]
+fn any_thread_count_gives_the_devices_pixels() {
+    let (x, y) = scattered(700_000, 7);
     for (blend, colour) in [
         (Blend::Add, 0x0301_0204),
         (Blend::Max, 0x8040_2010),
@@ -164,16 +169,8 @@ fn any_thread_count_gives_the_devices_pixels() {
 /// threads, saturating on top of what the sum held.
 #[test]
 fn counts_of_parts_into_one_sum_on_any_thread_count() {
-    let n = 700_000;
-    let mut s = 11u64;
-    let mut next = move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (s >> 40) as f32 / (1u64 << 24) as f32
-    };
-    let x: Vec<f32> = (0..n).map(|_| next() * 1.2 - 0.1).collect();
-    let y: Vec<f32> = (0..n).map(|_| next() * 1.2 - 0.1).collect();
+    let (x, y) = scattered(700_000, 11);
+    let n = x.len();
     let range = Some(DataRange { lo: 0.0, hi: 1.0 });
     let plot = Plot {
         x_range: range,
