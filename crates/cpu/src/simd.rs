@@ -323,7 +323,6 @@ mod scalar {
     }
 
     /// Used by the build without SSE2 only, since no test compares it.
-    #[cfg_attr(test, allow(dead_code))]
     #[inline(always)]
     pub(crate) fn transpose(v: [V; 4]) -> [V; 4] {
         std::array::from_fn(|j| std::array::from_fn(|i| v[i][j]))
@@ -595,6 +594,17 @@ mod tests {
             let ours = F4::from_rgba(v).to_argb();
             assert_eq!(ours, scalar::to_argb([v[2], v[1], v[0], v[3]]), "{v:?}");
             assert_eq!(ours, pack(v), "{v:?}");
+        }
+    }
+
+    #[test]
+    fn transpose_matches_the_scalar_twin() {
+        let mut rng = Rng(0x0F0F_1234_5678_0002);
+        for _ in 0..1_000 {
+            let v: [[f32; 4]; 4] =
+                std::array::from_fn(|_| std::array::from_fn(|_| rng.float() * 2.0 - 1.0));
+            let ours = F4::transpose(v.map(|row| F4(imp::from_lanes(row)))).map(|f| bits(lanes(f)));
+            assert_eq!(ours, scalar::transpose(v).map(bits), "{v:?}");
         }
     }
 
