@@ -13,6 +13,9 @@
 use crate::curve::Keyable;
 use crate::rng::Rng;
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) use x86::Avx2;
+
 /// Lattice points along each axis; the field repeats every `NOISE_PERIOD` units.
 pub const NOISE_PERIOD: usize = 16;
 
@@ -114,7 +117,7 @@ impl NoiseField {
         assert!(p.iter().all(|c| c.len() == n) && out.iter().all(|c| c.len() == n));
         let [ox, oy, oz] = out;
         #[cfg(target_arch = "x86_64")]
-        let first = match x86::Avx2::get() {
+        let first = match Avx2::get() {
             Some(avx2) => avx2.accelerate(&self.lattice, p, d, [&mut *ox, &mut *oy, &mut *oz]),
             None => 0,
         };
@@ -143,11 +146,11 @@ mod x86 {
 
     /// Proof that the CPU has AVX2, and that [`LANES_VAR`] does not ask for less.
     #[derive(Copy, Clone, Debug)]
-    pub(super) struct Avx2(());
+    pub(crate) struct Avx2(());
 
     impl Avx2 {
         /// AVX2 where the CPU has it and [`LANES_VAR`] allows it (decided once).
-        pub(super) fn get() -> Option<Avx2> {
+        pub(crate) fn get() -> Option<Avx2> {
             static ON: std::sync::OnceLock<Option<Avx2>> = std::sync::OnceLock::new();
             *ON.get_or_init(|| {
                 let narrower = matches!(
@@ -159,7 +162,7 @@ mod x86 {
         }
 
         /// AVX2 where the CPU has it.
-        pub(super) fn detect() -> Option<Avx2> {
+        pub(crate) fn detect() -> Option<Avx2> {
             is_x86_feature_detected!("avx2").then_some(Avx2(()))
         }
 
@@ -362,7 +365,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx2_accelerations_are_the_scalar_ones() {
-        let Some(avx2) = x86::Avx2::detect() else {
+        let Some(avx2) = Avx2::detect() else {
             eprintln!("no AVX2 on this CPU: nothing to compare");
             return;
         };
