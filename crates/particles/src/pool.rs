@@ -10,6 +10,8 @@ use crate::system::{BLOCK, COLUMNS, PARALLEL_MIN, VERTEX_STRIDE};
 
 /// Particles whose accelerations an update gathers before integrating them.
 const CHUNK: usize = 64;
+/// Particles an update decides together whether to move (see [`Doom`]).
+const GROUP: usize = 8;
 
 /// `f32`s per block.
 const BLOCK_LEN: usize = BLOCK * COLUMNS;
@@ -91,6 +93,61 @@ struct UpdateParams<'a> {
     gravity: [f32; 3],
     wind: [f32; 3],
     turbulence: Option<(&'a NoiseField, Drive)>,
+    /// Which particles surely die before the advance ends ([`Doom`]).
+    doom: Doom,
+}
+
+/// Which particles surely die before the end of the advance a step belongs to, so that
+/// nothing reads where they go: a particle of age `a` (after this step's increment) and
+/// lifetime `l` with `(a + span) * shrink >= l` in f32. With `after` steps after this one,
+/// `span` is at most `after * h` and `shrink` at most `1 - (after + 8) 2^-22`, which makes the
+/// test imply that the age, `after` more f32 additions of `h` later, reached `l`: each
+/// addition rounds it down by at most a factor `1 - 2^-24`, the test's own roundings and
+/// those of `span` and `shrink` up by less than the margin left (ages are never negative; a
+/// NaN age or lifetime is never doomed).
+#[derive(Copy, Clone, Debug)]
+pub(crate) struct Doom {
+    span: f32,
+    shrink: f32,
+}
+
+impl Doom {
+    /// The rule for a step of `h` seconds followed by `after` more in the same advance.
+    pub(crate) fn new(h: f32, after: u64) -> Doom {
+        // Beyond 2^20 steps the margin would eat a quarter of the age: `0 >= l` holds only
+        // for lifetimes that end this step anyway.
+        if after > 1 << 20 {
+            return Doom {
+                span: 0.0,
+                shrink: 0.0,
+            };
+        }
+        let after = after as f64;
+        Doom {
+            span: (after * f64::from(h) * (1.0 - 2f64.powi(-20))) as f32,
+            shrink: (1.0 - (after + 8.0) * 2f64.powi(-22)) as f32,
+        }
+    }
+
+    /// Flags in `doomed` the particles (ages before this step's increment of `h`) that surely
+    /// die before the advance ends.
+    #[inline(always)]
+    fn flag(self, age: &[f32], life: &[f32], h: f32, doomed: &mut [u8]) {
+        let n = doomed.len();
+        let (age, life) = (&age[..n], &life[..n]);
+        for i in 0..n {
+            doomed[i] = u8::from(((age[i] + h) + self.span) * self.shrink >= life[i]);
+        }
+    }
+}
+
+/// Whether the group of [`GROUP`] flags from `first` (fewer at the end) are all set.
+#[inline(always)]
+fn all_set(flags: &[u8], first: usize) -> bool {
+    match flags.get(first..first + GROUP) {
+        Some(group) => group == [1; GROUP],
+        None => flags[first..].iter().all(|&f| f != 0),
+    }
 }
 
 /// Ages, kills, moves and packs the `n` live particles of one block; returns the survivors.
@@ -116,9 +173,31 @@ fn update_block_inline(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usi
     let mut accel = [[0.0f32; CHUNK]; 3];
     // 1 where a particle's age reached its lifetime (or either is NaN).
     let mut dead = [0u8; BLOCK];
-    for first in (0..n).step_by(CHUNK) {
-        let range = first..n.min(first + CHUNK);
+    let mut sure_death = [0u8; BLOCK];
+    p.doom
+        .flag(&c.age[..n], &c.life[..n], p.h, &mut sure_death[..n]);
+    let mut first = 0;
+    while first < n {
+        // A run of groups that all surely die before the advance ends, or of groups that
+        // do not, at most CHUNK long.
+        let doomed = all_set(&sure_death[..n], first);
+        let mut end = n.min(first + GROUP);
+        while end < n && end - first < CHUNK && all_set(&sure_death[..n], end) == doomed {
+            end = n.min(end + GROUP);
+        }
+        let range = first..end;
         let len = range.len();
+        first = end;
+        if doomed {
+            // Nobody sees where they go: only their ages move on.
+            let (age, life) = (&mut c.age[range.clone()], &c.life[range.clone()]);
+            for (i, d) in dead[range].iter_mut().enumerate() {
+                age[i] += p.h;
+                let alive = age[i] < life[i];
+                *d = u8::from(!alive);
+            }
+            continue;
+        }
         let [ax, ay, az] = &mut accel;
         let (ax, ay, az) = (&mut ax[..len], &mut ay[..len], &mut az[..len]);
         match &p.turbulence {
@@ -408,7 +487,9 @@ impl Pool {
         n.min(total).min(u64::MAX as f64 / 2.0) as u64
     }
 
-    pub(crate) fn update(&mut self, h: f32, t0: f64, parallel: bool) {
+    /// One step of `h` seconds from `t0`, `after` more steps following it in the same advance
+    /// (see [`Doom`]).
+    pub(crate) fn update(&mut self, h: f32, t0: f64, after: u64, parallel: bool) {
         if self.live == 0 {
             return;
         }
@@ -430,6 +511,7 @@ impl Pool {
             gravity: e.gravity,
             wind: e.wind,
             turbulence,
+            doom: Doom::new(h, after),
         };
         let run = |(block, count): (&mut [f32], &mut u32)| {
             if *count > 0 {
@@ -607,8 +689,8 @@ mod tests {
         assert_eq!(out, bytes);
     }
 
-    /// A block of `n` particles with random components, about one in eight dying this step
-    /// and some with NaN ages or lifetimes.
+    /// A block of `n` particles with random components, about one in eight dying this step,
+    /// the first 128 within a second (two of them now), and some with NaN ages or lifetimes.
     fn random_block(n: usize, seed: u64) -> Vec<f32> {
         let mut rng = Rng::from_key(seed);
         let mut block = vec![0.0; BLOCK_LEN];
@@ -621,6 +703,10 @@ mod tests {
                     _ => rng.signed() * 30.0,
                 };
             }
+        }
+        // The first 128 die within a second, the first two now.
+        for i in 0..n.min(128) {
+            block[7 * BLOCK + i] = block[6 * BLOCK + i] + if i < 2 { 0.0 } else { 0.5 };
         }
         block[6 * BLOCK + 17] = f32::NAN;
         block[7 * BLOCK + 300] = f32::NAN;
@@ -642,12 +728,14 @@ mod tests {
             inv_scale: 0.25,
             offset: [0.3, 0.15, 0.07],
         };
-        for turbulence in [None, Some((&field, drive))] {
+        let h = 1.0 / 60.0;
+        for (turbulence, after) in [(None, 0), (Some((&field, drive)), 0), (None, 60)] {
             let p = UpdateParams {
-                h: 1.0 / 60.0,
+                h,
                 gravity: [0.0, -9.81, 0.0],
                 wind: [1.2, 0.0, 0.4],
                 turbulence,
+                doom: Doom::new(h, after),
             };
             for (n, seed) in [(BLOCK, 1), (1000, 2), (77, 3), (5, 4)] {
                 let mut a = random_block(n, seed);

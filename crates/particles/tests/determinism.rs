@@ -142,3 +142,23 @@ fn stepping_in_different_slices_gives_the_same_state() {
     b.write_vertices(&mut vb);
     assert!(va == vb);
 }
+
+/// A long advance does not move the particles that die before its end (nobody sees them),
+/// and leaves exactly the state that as many single steps leave.
+#[test]
+fn a_long_advance_leaves_what_single_steps_leave() {
+    let mut a = ParticleSystem::new(config(4)).unwrap();
+    let mut b = ParticleSystem::new(config(4)).unwrap();
+    assert_eq!(a.advance_to(4.0), 240);
+    for _ in 0..240 {
+        b.step();
+    }
+    let (mut va, mut vb) = (Vec::new(), Vec::new());
+    a.write_vertices(&mut va);
+    b.write_vertices(&mut vb);
+    assert!(a.stats(0).dropped > 0 && a.stats(2).spawned > a.stats(2).live as u64);
+    for e in 0..3 {
+        assert_eq!(a.stats(e), b.stats(e));
+    }
+    assert!(va == vb, "the advance and the steps differ");
+}
