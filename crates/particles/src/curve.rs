@@ -144,6 +144,69 @@ impl<T: Keyable> Curve<T> {
         let (tb, vb) = keys[j + 1];
         T::lerp(va, vb, (t - ta) / (tb - ta))
     }
+
+    /// [`Curve::eval`] of every `t`, its `C` components (`parts` of a value) into `out`, the
+    /// same bits, without branches on `t` so that it vectorises: each segment's interpolation
+    /// (`Keyable::lerp`, component by component) is computed for every `t` and kept where
+    /// the segment holds `t`.
+    #[inline(always)]
+    pub(crate) fn eval_into<const C: usize>(
+        &self,
+        t: &[f32],
+        parts: impl Fn(T) -> [f32; C],
+        out: [&mut [f32]; C],
+    ) {
+        let keys = &self.keys[..];
+        let (t0, v0) = keys[0];
+        let (tl, vl) = keys[keys.len() - 1];
+        let (v0, vl) = (parts(v0), parts(vl));
+        let mut out = out;
+        for (k, o) in out.iter_mut().enumerate() {
+            ends(t, (t0, v0[k]), (tl, vl[k]), o);
+        }
+        // Between, segment j holds t when t_j <= t < t_j+1 (j > 0), which is `eval`'s count
+        // of the later keys at or before t, the keys being in order.
+        for (j, pair) in keys.windows(2).enumerate() {
+            let ((ta, va), (tb, vb)) = (pair[0], pair[1]);
+            let (va, vb) = (parts(va), parts(vb));
+            let from = if j == 0 { f32::NEG_INFINITY } else { ta };
+            for (k, o) in out.iter_mut().enumerate() {
+                segment(t, t0, from, (ta, va[k]), (tb, vb[k]), o);
+            }
+        }
+    }
+}
+
+/// Up to the first key (and for NaN) its value, from the last key on the last value.
+#[inline(always)]
+fn ends(t: &[f32], (t0, first): (f32, f32), (tl, last): (f32, f32), out: &mut [f32]) {
+    let t = &t[..out.len()];
+    for i in 0..out.len() {
+        out[i] = if (t[i] > t0) & (t[i] >= tl) {
+            last
+        } else {
+            first
+        };
+    }
+}
+
+/// Where `from <= t < tb` (and `t > t0`), the lerp of the segment from `(ta, a)` to `(tb, b)`.
+#[inline(always)]
+fn segment(
+    t: &[f32],
+    t0: f32,
+    from: f32,
+    (ta, a): (f32, f32),
+    (tb, b): (f32, f32),
+    out: &mut [f32],
+) {
+    let t = &t[..out.len()];
+    for i in 0..out.len() {
+        // `&`, not `&&`: no branches in the loop.
+        let holds = (t[i] > t0) & (from <= t[i]) & (t[i] < tb);
+        let f = (t[i] - ta) / (tb - ta);
+        out[i] = if holds { a + (b - a) * f } else { out[i] };
+    }
 }
 
 #[cfg(test)]

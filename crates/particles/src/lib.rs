@@ -52,6 +52,7 @@ mod pool;
 pub mod presets;
 mod rng;
 mod system;
+mod vertices;
 
 pub use curve::{Curve, CurveError, Keyable};
 pub use emitter::{

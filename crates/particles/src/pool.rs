@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use crate::emitter::Emitter;
 use crate::noise::{Drive, NoiseField};
 use crate::rng::{Rng, mix64};
-use crate::system::{BLOCK, COLUMNS, PARALLEL_MIN, VERTEX_STRIDE};
+use crate::system::{BLOCK, COLUMNS, PARALLEL_MIN};
 
 /// Particles whose accelerations an update gathers before integrating them.
 const CHUNK: usize = 64;
@@ -14,7 +14,7 @@ const CHUNK: usize = 64;
 const GROUP: usize = 8;
 
 /// `f32`s per block.
-const BLOCK_LEN: usize = BLOCK * COLUMNS;
+pub(crate) const BLOCK_LEN: usize = BLOCK * COLUMNS;
 
 /// The direction the turbulence field drifts along (unit length).
 const DRIFT: [f32; 3] = [0.872_871_6, 0.436_435_8, 0.218_217_9];
@@ -343,64 +343,6 @@ mod x86 {
     }
 }
 
-/// Float to 8-bit unorm: saturate, then round half up (as `f32::round` does for these
-/// non-negative values, without its libm call).
-#[inline]
-fn unorm8(v: f32) -> u32 {
-    (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u32
-}
-
-/// Writes the vertices of the `n` live particles of one block into `out` (`n` vertices long).
-fn write_block(block: &[f32], n: usize, e: &Emitter, out: &mut [u8]) {
-    let col = |k: usize| &block[k * BLOCK..k * BLOCK + n];
-    let (px, py, pz) = (col(0), col(1), col(2));
-    let (age, life, size, shade) = (col(6), col(7), col(8), col(10));
-    for (i, v) in out.chunks_exact_mut(VERTEX_STRIDE).enumerate().take(n) {
-        let t = age[i] / life[i];
-        let s = size[i] * e.size_over_life.eval(t);
-        let rgba = e.color_over_life.eval(t);
-        let b = shade[i];
-        let argb = unorm8(rgba[3]) << 24
-            | unorm8(rgba[0] * b) << 16
-            | unorm8(rgba[1] * b) << 8
-            | unorm8(rgba[2] * b);
-        let words = [
-            px[i].to_bits(),
-            py[i].to_bits(),
-            pz[i].to_bits(),
-            s.to_bits(),
-            argb,
-        ];
-        let mut bytes = [0u8; VERTEX_STRIDE];
-        for (dst, w) in bytes.chunks_exact_mut(4).zip(words) {
-            dst.copy_from_slice(&w.to_le_bytes());
-        }
-        v.copy_from_slice(&bytes);
-    }
-}
-
-/// Writes the blocks' vertices into `out`, which holds exactly their live particles; splits
-/// the work in halves with `rayon::join` when `parallel`.
-fn write_blocks(data: &[f32], counts: &[u32], e: &Emitter, out: &mut [u8], parallel: bool) {
-    if !parallel || counts.len() <= 2 {
-        let mut offset = 0;
-        for (block, &n) in data.chunks_exact(BLOCK_LEN).zip(counts) {
-            let len = n as usize * VERTEX_STRIDE;
-            write_block(block, n as usize, e, &mut out[offset..offset + len]);
-            offset += len;
-        }
-        return;
-    }
-    let mid = counts.len() / 2;
-    let left: usize = counts[..mid].iter().map(|&n| n as usize).sum();
-    let (out_l, out_r) = out.split_at_mut(left * VERTEX_STRIDE);
-    let (data_l, data_r) = data.split_at(mid * BLOCK_LEN);
-    rayon::join(
-        || write_blocks(data_l, &counts[..mid], e, out_l, parallel),
-        || write_blocks(data_r, &counts[mid..], e, out_r, parallel),
-    );
-}
-
 /// A newly born particle's components.
 struct Birth {
     p: [f32; 3],
@@ -652,42 +594,13 @@ impl Pool {
 
     pub(crate) fn write(&self, out: &mut [u8], parallel: bool) {
         let parallel = parallel && self.live >= PARALLEL_MIN;
-        write_blocks(&self.data, &self.counts, &self.emitter, out, parallel);
+        crate::vertices::write_blocks(&self.data, &self.counts, &self.emitter, out, parallel);
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use pointillist_core::{Vertex, XyzPsizeDiffuse};
-
     use super::*;
-    use crate::system::VERTEX_FVF;
-
-    #[test]
-    fn the_vertex_layout_is_the_seeds() {
-        assert_eq!(VERTEX_FVF.stride(), VERTEX_STRIDE);
-        let mut bytes = Vec::new();
-        XyzPsizeDiffuse {
-            position: [1.0, 2.0, 3.0],
-            psize: 0.5,
-            diffuse: 0xFF10_2030,
-        }
-        .write(&mut bytes);
-        let mut block = vec![0.0; BLOCK_LEN];
-        for (k, v) in [1.0, 2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.5, 0.0, 1.0]
-            .into_iter()
-            .enumerate()
-        {
-            block[k * BLOCK] = v;
-        }
-        let e = Emitter {
-            color_over_life: crate::Curve::constant(pointillist_core::color::unpack(0xFF10_2030)),
-            ..Emitter::default()
-        };
-        let mut out = vec![0u8; VERTEX_STRIDE];
-        write_block(&block, 1, &e, &mut out);
-        assert_eq!(out, bytes);
-    }
 
     /// A block of `n` particles with random components, about one in eight dying this step,
     /// the first 128 within a second (two of them now), and some with NaN ages or lifetimes.
