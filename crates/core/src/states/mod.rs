@@ -10,9 +10,8 @@
 //! the pipeline computes with, by typed enums ([`Blend`], [`BlendOp`], [`Cmp`], [`TextureOp`],
 //! [`TextureAddress`], [`TextureFilter`], [`ZBufferType`]).
 //!
-//! One file per table: render states (`render`), texture-stage states (`texture_stage`),
-//! sampler states (`sampler`), the enums their values take (`enums`) and the `D3DTA_*`
-//! texture arguments (`texture_arg`).
+//! Each state type has its file (`render`, `texture_stage`, `sampler`); the enums their values
+//! take are in `enums`, the `D3DTA_*` texture arguments in `texture_arg`.
 
 /// Which default table applies.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash, Default)]
