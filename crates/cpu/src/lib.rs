@@ -22,7 +22,6 @@
 
 mod lanes;
 mod raster;
-mod simd;
 mod stage;
 #[cfg(test)]
 mod test_rng;

@@ -295,7 +295,7 @@ impl VertexProcessing {
             return range.start;
         }
         match lanes {
-            Level::Portable => self.batches(Portable, points, vertices, range, f),
+            Level::Portable => self.batches(Portable::<8>, points, vertices, range, f),
             // Pre-transformed vertices are cheaper one at a time than gathered four at a time
             // on SSE2; transformed ones go through `quads`.
             #[cfg(target_arch = "x86_64")]

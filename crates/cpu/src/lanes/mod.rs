@@ -184,6 +184,20 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     fn select_f(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F;
 }
 
+/// SPEC 5.5's ONE, ONE, ADD of the D3DCOLOR `src` onto `dst`: the per-channel saturating sum,
+/// which is what the float formula rounds to (the additive blender's test checks every pair
+/// of bytes).
+#[inline(always)]
+pub(crate) fn adds_u8_pixel(src: u32, dst: u32) -> u32 {
+    let (s, d) = (src.to_le_bytes(), dst.to_le_bytes());
+    u32::from_le_bytes([
+        s[0].saturating_add(d[0]),
+        s[1].saturating_add(d[1]),
+        s[2].saturating_add(d[2]),
+        s[3].saturating_add(d[3]),
+    ])
+}
+
 /// SPEC 5.5's SRCALPHA, INVSRCALPHA, ADD of the D3DCOLOR `src` onto `dst`, channel by channel
 /// in integers: `round((s * a + d * (255 - a)) / 255)` of the bytes, `a` the source alpha.
 ///
@@ -224,14 +238,58 @@ fn div_255(x: u32) -> u32 {
     (t + (t >> 8)) >> 8
 }
 
-/// Four or more lanes every CPU of the target has, for the code that runs outside any
-/// [`Level`]'s functions: SSE2 on x86-64, the portable twin elsewhere.
+/// Four lanes as the four channels of one colour in D3DCOLOR byte order (blue, green, red,
+/// alpha; lane `c` holds channel `c`), for the fills that shade one pixel at a time, and four
+/// such colours as four planes ([`Quad::transpose`]) for those that shade four.
+pub(crate) trait Quad: Lanes {
+    /// SPEC 1's unpack of the D3DCOLOR `c` (`color::unpack`, reordered into lanes).
+    fn color(self, c: u32) -> Self::F;
+    /// SPEC 1's pack of the lanes (`color::pack`: saturate, scale by 255, round half up; NaN
+    /// packs as 0).
+    fn pack_color(self, v: Self::F) -> u32;
+    /// The blue, green and red lanes of `rgb` with the alpha lane of `alpha`.
+    fn with_alpha_of(self, rgb: Self::F, alpha: Self::F) -> Self::F;
+    /// Lane `j` of vector `i` becomes lane `i` of vector `j`: four colours become the planes
+    /// [`Lanes::unpack`] gives of their D3DCOLORs.
+    fn transpose(self, v: [Self::F; 4]) -> [Self::F; 4];
+    /// The four lanes.
+    #[inline(always)]
+    fn lanes(self, v: Self::F) -> [f32; 4] {
+        let mut out = [0.0; MAX_LANES];
+        self.store(&mut out, v);
+        [out[0], out[1], out[2], out[3]]
+    }
+    /// An RGBA colour of the reference arithmetic, reordered into lanes.
+    #[inline(always)]
+    fn rgba(self, [r, g, b, a]: pointillist_core::color::Rgba) -> Self::F {
+        self.load(&[b, g, r, a])
+    }
+}
+
+/// The four lanes every CPU of the target has: SSE2 on x86-64, the portable twin elsewhere.
 #[cfg(target_arch = "x86_64")]
-pub(crate) const BASELINE: Sse2 = Sse2::new();
-/// Four or more lanes every CPU of the target has, for the code that runs outside any
-/// [`Level`]'s functions: SSE2 on x86-64, the portable twin elsewhere.
+pub(crate) type Baseline = Sse2;
+/// The four lanes every CPU of the target has: SSE2 on x86-64, the portable twin elsewhere.
 #[cfg(not(target_arch = "x86_64"))]
-pub(crate) const BASELINE: Portable = Portable;
+pub(crate) type Baseline = Portable<4>;
+
+// The fills shade four pixels at a time in [`Baseline`]'s lanes, and a colour's four
+// channels are one vector of them.
+const _: () = assert!(<Baseline as Lanes>::N == 4);
+
+/// One colour's four channels, or one channel of four pixels, in [`Baseline`]'s lanes.
+pub(crate) type Channels = <Baseline as Lanes>::F;
+
+/// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
+/// single pixels and four-pixel spans of the fills, and the vertices the stage's batches
+/// leave over.
+#[cfg(target_arch = "x86_64")]
+pub(crate) const BASELINE: Baseline = Sse2::new();
+/// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
+/// single pixels and four-pixel spans of the fills, and the vertices the stage's batches
+/// leave over.
+#[cfg(not(target_arch = "x86_64"))]
+pub(crate) const BASELINE: Baseline = Portable;
 
 /// The environment variable that chooses a narrower [`Level`] than the widest the CPU has
 /// (`portable`, `sse2`, `avx2`, `avx512`), to compare them.
@@ -240,7 +298,7 @@ pub(crate) const LANES_VAR: &str = "POINTILLIST_LANES";
 /// Which [`Lanes`] this machine runs, detected once.
 #[derive(Copy, Clone, Debug)]
 pub(crate) enum Level {
-    /// [`Portable`].
+    /// [`Portable`] with eight lanes.
     Portable,
     /// [`Avx2`].
     #[cfg(target_arch = "x86_64")]
@@ -381,7 +439,7 @@ mod tests {
 
     /// Every operation of `l` against the portable twin, lane by lane, on the same inputs.
     fn matches_the_portable_twin<L: Lanes>(l: L) {
-        let p = Portable;
+        let p = Portable::<8>;
         let mut rng = Rng(0x1A4E_5000_0000_0001 ^ L::N as u64);
         for round in 0..4000 {
             let a: [f32; MAX_LANES] = std::array::from_fn(|_| float(&mut rng));
@@ -420,13 +478,13 @@ mod tests {
                     "part {part}"
                 );
             }
-            for first in (0..MAX_LANES).step_by(Portable::N) {
+            for first in (0..MAX_LANES).step_by(Portable::<8>::N) {
                 if first >= L::N {
                     break;
                 }
                 // The lanes of `l` this round compares: eight, or all of a narrower level's.
-                let w = Portable::N.min(L::N);
-                let r = first..first + Portable::N;
+                let w = Portable::<8>::N.min(L::N);
+                let r = first..first + Portable::<8>::N;
                 let rw = first..first + w;
                 let (fa, fb, ft) = (
                     p.load(&a[r.clone()]),
@@ -602,7 +660,7 @@ mod tests {
     /// SPEC 1's pack of every byte.
     #[test]
     fn spec_1_portable_lanes_pack_every_byte_like_the_reference() {
-        let p = Portable;
+        let p = Portable::<8>;
         for byte in 0..=255u32 {
             let v = p.channel::<16>([byte << 16; 8]);
             assert_eq!(v, [unorm8_to_f32(byte as u8); 8]);
@@ -664,7 +722,7 @@ mod tests {
     fn spec_1_every_level_quantizes_half_steps_like_the_reference() {
         for level in Level::available() {
             match level {
-                Level::Portable => quantize_rounds_like_the_reference(Portable),
+                Level::Portable => quantize_rounds_like_the_reference(Portable::<8>),
                 #[cfg(target_arch = "x86_64")]
                 Level::Sse2(l) => quantize_rounds_like_the_reference(l),
                 #[cfg(target_arch = "x86_64")]
@@ -689,11 +747,58 @@ mod tests {
         }
     }
 
+    /// Each four-lane level's [`Quad`] operations against the scalar reference (SPEC 1's
+    /// `unpack` and `pack`) and the plain definitions, on ordinary and hostile values.
+    fn quad_matches_the_reference<L: Quad>(l: L) {
+        use pointillist_core::color::{pack, unpack};
+        let bits = |v: [f32; 4]| v.map(f32::to_bits);
+        let mut rng = Rng(0x1234_5678_9ABC_DEF1);
+        for _ in 0..100_000 {
+            let c = rng.next();
+            let [r, g, b, a] = unpack(c);
+            assert_eq!(bits(l.lanes(l.color(c))), bits([b, g, r, a]), "{c:08x}");
+            assert_eq!(l.pack_color(l.color(c)), c);
+            let v = [
+                float(&mut rng),
+                float(&mut rng),
+                float(&mut rng),
+                float(&mut rng),
+            ];
+            assert_eq!(l.pack_color(l.rgba(v)), pack(v), "{v:?}");
+            let o = [
+                float(&mut rng),
+                float(&mut rng),
+                float(&mut rng),
+                float(&mut rng),
+            ];
+            let [vb, vg, vr, _] = l.lanes(l.rgba(v));
+            let got = l.lanes(l.with_alpha_of(l.rgba(v), l.rgba(o)));
+            assert_eq!(bits(got), bits([vb, vg, vr, o[3]]), "{v:?} {o:?}");
+            let m: [[f32; 4]; 4] =
+                std::array::from_fn(|_| std::array::from_fn(|_| float(&mut rng)));
+            let t = l
+                .transpose(m.map(|row| l.load(&row)))
+                .map(|v| bits(l.lanes(v)));
+            let want: [[u32; 4]; 4] =
+                std::array::from_fn(|j| std::array::from_fn(|i| m[i][j].to_bits()));
+            assert_eq!(t, want, "{m:?}");
+        }
+    }
+
+    #[test]
+    fn spec_1_four_lane_colours_match_the_reference() {
+        quad_matches_the_reference(Portable::<4>);
+        quad_matches_the_reference(BASELINE);
+    }
+
     #[test]
     fn every_level_matches_the_portable_twin() {
         for level in Level::available() {
             match level {
-                Level::Portable => matches_the_portable_twin(Portable),
+                Level::Portable => {
+                    matches_the_portable_twin(Portable::<8>);
+                    matches_the_portable_twin(Portable::<4>);
+                }
                 #[cfg(target_arch = "x86_64")]
                 Level::Sse2(l) => matches_the_portable_twin(l),
                 #[cfg(target_arch = "x86_64")]

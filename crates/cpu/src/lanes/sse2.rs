@@ -6,7 +6,7 @@
 
 use std::arch::x86_64::*;
 
-use super::{Lanes, with_features};
+use super::{Lanes, Quad, with_features};
 use pointillist_core::states::Cmp;
 
 /// Four lanes of SSE2.
@@ -325,6 +325,59 @@ impl Lanes for Sse2 {
         with_features! {
             let m = _mm_castsi128_ps(m);
             _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b))
+        }
+    }
+}
+
+// Every `unsafe` block of this impl is `with_features!`, whose SAFETY line holds here.
+impl Quad for Sse2 {
+    #[inline(always)]
+    fn color(self, c: u32) -> __m128 {
+        with_features! {
+            let z = _mm_setzero_si128();
+            let bytes = _mm_cvtsi32_si128(c as i32);
+            let lanes = _mm_unpacklo_epi16(_mm_unpacklo_epi8(bytes, z), z);
+            // `f32::from(v) * (1.0 / 255.0)`: the conversion is exact, the product one rounding.
+            _mm_mul_ps(_mm_cvtepi32_ps(lanes), _mm_set1_ps(1.0 / 255.0))
+        }
+    }
+    #[inline(always)]
+    fn pack_color(self, v: __m128) -> u32 {
+        with_features! {
+            // `v.clamp(0.0, 1.0) * 255.0`; maxps returns its second operand for NaN, so NaN
+            // becomes 0, which is what the scalar `as u8` gives.
+            let x = _mm_mul_ps(
+                _mm_min_ps(_mm_max_ps(v, _mm_setzero_ps()), _mm_set1_ps(1.0)),
+                _mm_set1_ps(255.0),
+            );
+            // Truncate, then add one where `x - trunc(x) >= 0.5` (the mask is -1).
+            let t = _mm_cvttps_epi32(x);
+            let up = _mm_cmpge_ps(_mm_sub_ps(x, _mm_cvtepi32_ps(t)), _mm_set1_ps(0.5));
+            let t = _mm_sub_epi32(t, _mm_castps_si128(up));
+            let words = _mm_packs_epi32(t, t);
+            _mm_cvtsi128_si32(_mm_packus_epi16(words, words)) as u32
+        }
+    }
+    #[inline(always)]
+    fn with_alpha_of(self, rgb: __m128, alpha: __m128) -> __m128 {
+        with_features! {
+            let mask = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+            _mm_or_ps(_mm_and_ps(mask, rgb), _mm_andnot_ps(mask, alpha))
+        }
+    }
+    #[inline(always)]
+    fn transpose(self, [a, b, c, d]: [__m128; 4]) -> [__m128; 4] {
+        with_features! {
+            let ab_lo = _mm_unpacklo_ps(a, b); // a0 b0 a1 b1
+            let cd_lo = _mm_unpacklo_ps(c, d); // c0 d0 c1 d1
+            let ab_hi = _mm_unpackhi_ps(a, b); // a2 b2 a3 b3
+            let cd_hi = _mm_unpackhi_ps(c, d); // c2 d2 c3 d3
+            [
+                _mm_movelh_ps(ab_lo, cd_lo),
+                _mm_movehl_ps(cd_lo, ab_lo),
+                _mm_movelh_ps(ab_hi, cd_hi),
+                _mm_movehl_ps(cd_hi, ab_hi),
+            ]
         }
     }
 }

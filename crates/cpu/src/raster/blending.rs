@@ -10,18 +10,11 @@ use pointillist_core::states::Cmp;
 
 use super::DrawContext;
 use super::bands::{Band, rows};
-use crate::lanes::{Lanes, MAX_LANES, source_alpha_pixel};
-use crate::simd::P4;
+use crate::lanes::{BASELINE, Lanes, MAX_LANES, source_alpha_pixel};
 
 /// How a source colour combines with the target.
 pub(super) trait Blender: Sync {
     fn blend(&self, src: u32, dst: u32) -> u32;
-
-    /// [`Blender::blend`] of four pixels: `src` packed and as [`P4`] (the same colours).
-    #[inline(always)]
-    fn blend4(&self, src: [u32; 4], _planar: &P4, dst: [u32; 4]) -> [u32; 4] {
-        std::array::from_fn(|i| self.blend(src[i], dst[i]))
-    }
 
     /// [`Blender::blend`] of a span of N pixels `src` over `dst`. By default pixel by pixel.
     #[inline(always)]
@@ -36,14 +29,41 @@ pub(super) trait Blender: Sync {
     }
 
     /// Blends `src` into the pixels `r` (inside `band`) through the channel mask (SPEC 5.5,
-    /// 5.6).
+    /// 5.6): [`Blender::blend_lanes`] four pixels at a time ([`BASELINE`]; an untextured
+    /// sprite covering a whole target blends every pixel of it), a row's last ones one at a
+    /// time.
     #[inline(always)]
     fn blend_rect(&self, src: u32, band: &mut Band, r: PixelRect, mask: u32) {
-        for j in rows(r, band) {
-            let row = (j - band.y0) as usize * band.width;
-            for px in &mut band.color[row + r.x0 as usize..row + r.x1 as usize] {
+        let rows = rows(r, band);
+        if rows.is_empty() {
+            return;
+        }
+        let (l, color) = (BASELINE, BASELINE.splat_u(src));
+        let (width, len) = (band.width, (r.x1 - r.x0) as usize);
+        let mut at = (rows.start - band.y0) as usize * width + r.x0 as usize;
+        if len == 4 && mask == u32::MAX {
+            // The commonest small particle: one vector a row.
+            for _ in rows {
+                let row = &mut band.color[at..at + 4];
+                let old = l.load_u(row);
+                l.store_u(row, self.blend_lanes(l, color, old));
+                at += width;
+            }
+            return;
+        }
+        for _ in rows {
+            let mut spans = band.color[at..at + len].chunks_exact_mut(4);
+            for span in &mut spans {
+                let old = l.load_u(span);
+                l.store_u(
+                    span,
+                    l.write_masked(mask, self.blend_lanes(l, color, old), old),
+                );
+            }
+            for px in spans.into_remainder() {
                 *px = write_masked(mask, self.blend(src, *px), *px);
             }
+            at += width;
         }
     }
 }
@@ -68,71 +88,29 @@ impl Blender for Replace {
 pub(super) struct Additive;
 
 impl Blender for Additive {
+    /// On [`BASELINE`]'s lanes, where the saturating byte add is one instruction.
     #[inline(always)]
     fn blend(&self, src: u32, dst: u32) -> u32 {
-        crate::simd::add_pixel(src, dst)
-    }
-
-    #[inline(always)]
-    fn blend4(&self, src: [u32; 4], _: &P4, dst: [u32; 4]) -> [u32; 4] {
-        crate::simd::add_pixels(src, dst)
+        let l = BASELINE;
+        let mut sum = [0; MAX_LANES];
+        l.store_u(&mut sum, l.adds_u8(l.splat_u(src), l.splat_u(dst)));
+        sum[0]
     }
 
     #[inline(always)]
     fn blend_lanes<L: Lanes>(&self, l: L, src: L::U, dst: L::U) -> L::U {
         l.adds_u8(src, dst)
     }
-
-    #[inline(always)]
-    fn blend_rect(&self, src: u32, band: &mut Band, r: PixelRect, mask: u32) {
-        let rows = rows(r, band);
-        if rows.is_empty() {
-            return;
-        }
-        let (r0, r1) = (
-            (rows.start - band.y0) as usize,
-            (rows.end - band.y0) as usize,
-        );
-        let cols = (r.x0 as usize, r.x1 as usize);
-        crate::simd::add_rect(band.color, band.width, cols, (r0, r1), src, mask);
-    }
 }
 
 /// SRCALPHA, INVSRCALPHA, ADD on every channel: the reference's arithmetic
-/// `s * a + d * (1 - a)` without building factor tables, four channels at once.
+/// `s * a + d * (1 - a)` in integers ([`source_alpha_pixel`]), without building factor tables.
 pub(super) struct SourceAlpha;
 
 impl Blender for SourceAlpha {
     #[inline(always)]
     fn blend(&self, src: u32, dst: u32) -> u32 {
         source_alpha_pixel(src, dst)
-    }
-
-    #[inline(always)]
-    fn blend4(&self, _: [u32; 4], src: &P4, dst: [u32; 4]) -> [u32; 4] {
-        P4::source_alpha(*src, P4::from_argb(dst)).to_argb()
-    }
-
-    /// Four pixels at a time: an untextured sprite covering a whole target blends every pixel
-    /// of it (200 such points on 4096x4096 took 43 s one pixel at a time).
-    #[inline(always)]
-    fn blend_rect(&self, src: u32, band: &mut Band, r: PixelRect, mask: u32) {
-        let planar = P4::from_argb([src; 4]);
-        for j in rows(r, band) {
-            let row = (j - band.y0) as usize * band.width;
-            let pixels = &mut band.color[row + r.x0 as usize..row + r.x1 as usize];
-            let mut quads = pixels.chunks_exact_mut(4);
-            for q in &mut quads {
-                let dst = [q[0], q[1], q[2], q[3]];
-                let out = self.blend4([src; 4], &planar, dst);
-                for k in 0..4 {
-                    q[k] = write_masked(mask, out[k], dst[k]);
-                }
-            }
-            for px in quads.into_remainder() {
-                *px = write_masked(mask, self.blend(src, *px), *px);
-            }
-        }
     }
 
     #[inline(always)]
@@ -234,17 +212,16 @@ mod tests {
         }
     }
 
-    /// The source-alpha rectangle (four pixels at a time) writes what the reference blend
-    /// writes at each pixel, through any channel mask, at every column offset.
-    #[test]
-    fn source_alpha_rect_matches_the_reference_blend() {
-        let setup = setup(Blend::SrcAlpha, Blend::InvSrcAlpha);
+    /// Each blender's rectangle (four pixels at a time, then one at a time) writes what the
+    /// reference blend writes at each pixel, through any channel mask, at every column offset.
+    fn rect_matches_the_reference_blend<B: Blender>(b: &B, setup: Option<&BlendSetup>) {
         let mut rng = Rng(0x5EED_0A1F_0000_0003);
-        // A band of rows 1..3 of a target 13 pixels wide; the rectangle spans rows 0..2.
-        let (width, height) = (13usize, 2usize);
-        for _ in 0..2000 {
+        // A band of rows 1..4 of a target 13 pixels wide; the rectangle spans rows 0..3.
+        let (width, height) = (13usize, 3usize);
+        for _ in 0..3000 {
             let src = rng.next();
-            let mask = rng.pick(&[0xFFFF_FFFF, 0x00FF_FFFF, 0xFF00_FF00, 0]);
+            let any = rng.next();
+            let mask = rng.pick(&[0xFFFF_FFFF, 0x00FF_FFFF, 0xFF00_FF00, 0, any]);
             let before: Vec<u32> = (0..width * height).map(|_| rng.next()).collect();
             let (mut color, mut depth) = (before.clone(), vec![1.0; width * height]);
             let x0 = (rng.next() % 5) as i32;
@@ -253,27 +230,40 @@ mod tests {
                 x0,
                 y0: 0,
                 x1,
-                y1: 2,
+                y1: 3,
             };
             let mut band = Band {
                 color: &mut color,
                 depth: &mut depth,
                 width,
                 y0: 1,
-                y1: 3,
+                y1: 4,
             };
-            SourceAlpha.blend_rect(src, &mut band, r, mask);
+            b.blend_rect(src, &mut band, r, mask);
             for (i, (&got, &was)) in color.iter().zip(&before).enumerate() {
                 let (x, y) = ((i % width) as i32, (i / width) as i32 + 1);
-                let inside = (x0..x1).contains(&x) && y == 1;
+                let inside = (x0..x1).contains(&x) && y < 3;
+                let blended = setup.map_or(src, |setup| blend(setup, src, was));
                 let want = if inside {
-                    write_masked(mask, blend(&setup, src, was), was)
+                    write_masked(mask, blended, was)
                 } else {
                     was
                 };
                 assert_eq!(got, want, "src {src:08X} mask {mask:08X} at ({x}, {y})");
             }
         }
+    }
+
+    #[test]
+    fn spec_5_5_every_blender_fills_rectangles_like_the_reference_blend() {
+        let additive = setup(Blend::One, Blend::One);
+        let source_alpha = setup(Blend::SrcAlpha, Blend::InvSrcAlpha);
+        let mut general = setup(Blend::BlendFactor, Blend::InvSrcColor);
+        general.factor = [0.25, 0.5, 0.75, 1.0];
+        rect_matches_the_reference_blend(&Replace, None);
+        rect_matches_the_reference_blend(&Additive, Some(&additive));
+        rect_matches_the_reference_blend(&SourceAlpha, Some(&source_alpha));
+        rect_matches_the_reference_blend(&General(general), Some(&general));
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //! [`blend`]: pointillist_core::pixel::blend
 
 use pointillist_core::color::{Rgba, pack};
-use pointillist_core::pixel::{alpha_test_passes, write_masked};
+use pointillist_core::pixel::alpha_test_passes;
 use pointillist_core::point::{PixelPlane, PixelRect, ScreenPoint, sprite_coord};
 
 use super::bands::{Band, rows};
@@ -18,10 +18,11 @@ use super::binning::Sprite;
 use super::blending::{Blender, depth_run, depth_test, write_pixel};
 use super::shading::{Modulate, ModulateAlpha, Shading, inputs};
 use super::texels::{
-    Column, Group, LevelTexels, StageTexture, Texel, TexelRow, TexelRows, sprite_samplers,
+    Column, Group, LevelTexels, Planes, StageTexture, Texel, TexelRow, TexelRows, lerp_planes,
+    sprite_samplers,
 };
 use super::{DrawContext, span};
-use crate::simd::P4;
+use crate::lanes::{BASELINE, Lanes, MAX_LANES, Quad};
 
 /// Binned sprites this many columns wide or more fill through the wide spans ([`span`]);
 /// narrower ones through [`fill_narrow`] (measured: 2 and 3 columns are faster there).
@@ -378,8 +379,9 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
     }
     let modulate = Modulate::new(alpha, p.diffuse);
     // Its planar form, for the spans.
-    let m4 = P4::splat(modulate.m.lanes());
-    let d4 = P4::splat(modulate.diffuse.lanes());
+    let l = BASELINE;
+    let m4: Planes = l.lanes(modulate.m).map(|c| l.splat(c));
+    let diffuse_alpha = l.splat(l.lanes(modulate.diffuse)[3]);
     let mask = ctx.pixel.write_mask;
     // Neither alpha nor depth test: a span writes all four pixels.
     let plain = ctx.pixel.alpha_test.is_none() && ctx.pixel.depth.is_none();
@@ -408,31 +410,37 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
                 // Four pixels at once, the arithmetic of `TexelRow::texel` and `Modulate` lane
                 // by lane.
                 let texel = if LINEAR {
-                    P4::lerp_by(top[n / 4], bottom[n / 4], fy)
+                    lerp_planes(top[n / 4], bottom[n / 4], l.splat(fy))
                 } else {
                     T::planes(std::array::from_fn(|i| texels[four[i].k as usize]))
                 };
-                let mut shaded = texel.mul(m4);
+                let mut shaded = [
+                    l.mul(texel[0], m4[0]),
+                    l.mul(texel[1], m4[1]),
+                    l.mul(texel[2], m4[2]),
+                    l.mul(texel[3], m4[3]),
+                ];
                 if modulate.diffuse_alpha {
-                    shaded = shaded.with_alpha_of(d4);
+                    shaded[3] = diffuse_alpha;
                 }
-                let (src, src4) = shaded.quantize();
+                let src = l.quantize(shaded);
                 let at = row + n;
-                let old: [u32; 4] = std::array::from_fn(|i| band.color[at + i]);
-                let new = b.blend4(src, &src4, old);
+                let old = l.load_u(&band.color[at..]);
+                let new = b.blend_lanes(l, src, old);
                 if plain {
-                    for i in 0..4 {
-                        band.color[at + i] = write_masked(mask, new[i], old[i]);
-                    }
+                    l.store_u(&mut band.color[at..], l.write_masked(mask, new, old));
                     n += 4;
                     continue;
                 }
+                let (mut src_px, mut new_px) = ([0; MAX_LANES], [0; MAX_LANES]);
+                l.store_u(&mut src_px, src);
+                l.store_u(&mut new_px, l.write_masked(mask, new, old));
                 for i in 0..4 {
                     // Alpha test, then depth test and write (SPEC 5.3, 5.4), as write_pixel.
-                    if alpha_test_passes(ctx.pixel.alpha_test, src[i])
+                    if alpha_test_passes(ctx.pixel.alpha_test, src_px[i])
                         && depth_test(ctx, band, at + i, p.z)
                     {
-                        band.color[at + i] = write_masked(mask, new[i], old[i]);
+                        band.color[at + i] = new_px[i];
                     }
                 }
                 n += 4;

@@ -8,7 +8,7 @@ use pointillist_core::pixel::{PixelSetup, ShadeInputs};
 use pointillist_core::point::ScreenPoint;
 use pointillist_core::states::{TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
 
-use crate::simd::F4;
+use crate::lanes::{BASELINE, Channels, Lanes, Quad};
 
 /// The alpha of a single MODULATE stage (see [`Shading::Modulate`]).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -81,8 +81,8 @@ pub(super) fn inputs(p: &ScreenPoint) -> ShadeInputs {
 pub(super) struct Modulate {
     /// The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
     /// passes through unchanged.
-    pub(super) m: F4,
-    pub(super) diffuse: F4,
+    pub(super) m: Channels,
+    pub(super) diffuse: Channels,
     /// The result takes the diffuse alpha.
     pub(super) diffuse_alpha: bool,
 }
@@ -90,10 +90,10 @@ pub(super) struct Modulate {
 impl Modulate {
     #[inline(always)]
     pub(super) fn new(alpha: ModulateAlpha, diffuse: u32) -> Modulate {
-        let d = F4::from_argb(diffuse);
+        let (l, d) = (BASELINE, BASELINE.color(diffuse));
         Modulate {
             m: match alpha {
-                ModulateAlpha::Texture => d.with_alpha_of(F4::splat(1.0)),
+                ModulateAlpha::Texture => l.with_alpha_of(d, l.splat(1.0)),
                 ModulateAlpha::Modulate | ModulateAlpha::Diffuse => d,
             },
             diffuse: d,
@@ -103,12 +103,13 @@ impl Modulate {
 
     /// The stage's result for `texel`, packed (SPEC 1).
     #[inline(always)]
-    pub(super) fn shade(&self, texel: F4) -> u32 {
-        let shaded = texel.mul(self.m);
+    pub(super) fn shade(&self, texel: Channels) -> u32 {
+        let l = BASELINE;
+        let shaded = l.mul(texel, self.m);
         if self.diffuse_alpha {
-            shaded.with_alpha_of(self.diffuse).to_argb()
+            l.pack_color(l.with_alpha_of(shaded, self.diffuse))
         } else {
-            shaded.to_argb()
+            l.pack_color(shaded)
         }
     }
 }

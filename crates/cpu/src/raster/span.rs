@@ -171,7 +171,7 @@ pub(super) fn fill<B: Blender>(
         };
     }
     match level {
-        Level::Portable => at!(Portable, fill_with),
+        Level::Portable => at!(Portable::<8>, fill_with),
         #[cfg(target_arch = "x86_64")]
         Level::Sse2(l) => at!(l, fill_sse2),
         // SAFETY: the level's value proves the CPU has the features the function is compiled
@@ -667,7 +667,7 @@ mod tests {
     fn spec_5_2_span_indices_match_the_per_pixel_fills_on_every_level() {
         for level in Level::available() {
             match level {
-                Level::Portable => axis_matches_the_per_pixel_indices(Portable),
+                Level::Portable => axis_matches_the_per_pixel_indices(Portable::<8>),
                 #[cfg(target_arch = "x86_64")]
                 Level::Sse2(l) => axis_matches_the_per_pixel_indices(l),
                 #[cfg(target_arch = "x86_64")]

@@ -111,7 +111,7 @@ fn solid_runs_match_the_general_path() {
     }
 }
 
-/// Random textured-sprite scenes through the fast paths (span sampler, [`F4`] arithmetic,
+/// Random textured-sprite scenes through the fast paths (span sampler, the baseline lanes,
 /// blend fast paths, threads) and through the general path give the same pixels.
 #[test]
 fn fast_paths_match_the_general_path_on_random_sprites() {

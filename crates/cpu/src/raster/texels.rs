@@ -2,7 +2,8 @@
 //! (SPEC 4.3, 5.2): texel indices and weights per column ([`Column`]) and per row
 //! ([`TexelRow`]), read directly where they are inside the level and sampled by core
 //! otherwise, a level's texels unpacked once per draw ([`Texel`]), and filtered texel rows kept
-//! from one pixel row to the next ([`TexelRows`]).
+//! from one pixel row to the next ([`TexelRows`]), in [`BASELINE`]'s lanes: one colour's
+//! channels, or one channel of four pixels ([`Planes`]).
 //!
 //! Contract: every texel is core's sampler's, bit for bit.
 
@@ -14,7 +15,7 @@ use pointillist_core::texture::{
 
 use super::fills::SpriteView;
 use super::{DrawContext, span};
-use crate::simd::{F4, P4};
+use crate::lanes::{BASELINE, Channels, Lanes, Quad};
 
 /// A stage's texture and sampler for the draw.
 pub(super) struct StageTexture<'a> {
@@ -24,33 +25,37 @@ pub(super) struct StageTexture<'a> {
     /// The sampler of every level of detail, when it does not depend on it
     /// ([`SamplerDesc::needs_lod`]).
     pub(super) fixed: Option<LodSampler<'a>>,
-    /// The texels of `fixed`'s level unpacked ([`F4::from_argb`]) for a draw of sprites big
+    /// The texels of `fixed`'s level unpacked ([`Quad::color`]) for a draw of sprites big
     /// enough to bin ([`StageTexture::unpack`]): the sprite fills then read them without
     /// unpacking each. Empty otherwise, so small draws never pay for it.
-    pub(super) unpacked: Vec<F4>,
+    pub(super) unpacked: Vec<Channels>,
     /// The same level as planes with its address margin, for the wide spans ([`span`]).
     pub(super) planar: Option<span::PlanarLevel>,
 }
 
-/// The largest level whose texels a draw unpacks once (1 MiB of [`F4`]).
+/// The largest level whose texels a draw unpacks once (1 MiB of [`Channels`]).
 const UNPACKED_MAX_TEXELS: usize = 1 << 16;
+
+/// Four pixels, channel-planar: plane `c` (blue, green, red, alpha) holds channel `c` of
+/// pixels 0 to 3, one per lane.
+pub(super) type Planes = [Channels; 4];
 
 /// A texel as the sprite fills read it: a D3DCOLOR, or one unpacked already.
 pub(super) trait Texel: Copy {
-    /// [`F4::from_argb`] of the texel.
-    fn unpack(self) -> F4;
-    /// [`P4::from_argb`] of four texels.
-    fn planes(px: [Self; 4]) -> P4;
+    /// SPEC 1's unpack of the texel ([`Quad::color`]).
+    fn unpack(self) -> Channels;
+    /// The planes of four texels (SPEC 1's unpack of each).
+    fn planes(px: [Self; 4]) -> Planes;
 }
 
 impl Texel for u32 {
     #[inline(always)]
-    fn unpack(self) -> F4 {
-        F4::from_argb(self)
+    fn unpack(self) -> Channels {
+        BASELINE.color(self)
     }
     #[inline(always)]
-    fn planes(px: [u32; 4]) -> P4 {
-        P4::from_argb(px)
+    fn planes(px: [u32; 4]) -> Planes {
+        BASELINE.unpack(BASELINE.load_u(&px))
     }
 }
 
@@ -61,15 +66,28 @@ pub(super) struct LevelTexels<'a, T> {
     pub(super) texels: &'a [T],
 }
 
-impl Texel for F4 {
+impl Texel for Channels {
     #[inline(always)]
-    fn unpack(self) -> F4 {
+    fn unpack(self) -> Channels {
         self
     }
     #[inline(always)]
-    fn planes(px: [F4; 4]) -> P4 {
-        P4::from_planes(F4::transpose(px))
+    fn planes(px: [Channels; 4]) -> Planes {
+        BASELINE.transpose(px)
     }
+}
+
+/// The sampler's lerp (SPEC 5.2) of four pixels, plane by plane, pixel `i` weighted by lane
+/// `i` of `t`.
+#[inline(always)]
+pub(super) fn lerp_planes(a: Planes, b: Planes, t: Channels) -> Planes {
+    let l = BASELINE;
+    [
+        l.lerp(a[0], b[0], t),
+        l.lerp(a[1], b[1], t),
+        l.lerp(a[2], b[2], t),
+        l.lerp(a[3], b[3], t),
+    ]
 }
 
 impl<'a> StageTexture<'a> {
@@ -89,7 +107,7 @@ impl<'a> StageTexture<'a> {
         if let Some(f) = self.fixed {
             let texels = &f.level().texels;
             if texels.len() <= UNPACKED_MAX_TEXELS {
-                self.unpacked = texels.iter().map(|&c| F4::from_argb(c)).collect();
+                self.unpacked = texels.iter().map(|&c| BASELINE.color(c)).collect();
                 if spans {
                     self.planar = Some(span::PlanarLevel::new(f.level(), &self.sampler));
                 }
@@ -126,11 +144,11 @@ impl Group {
 
 /// The horizontal lerps `lerp(t[l][k], t[l][k + 1], fx)` of two texel rows `l` and `l + 1` at
 /// every covered column of a sprite (the first half of SPEC 5.2's bilinear filter), four
-/// columns to a [`P4`], kept from one pixel row to the next: consecutive pixel rows read the
+/// columns to a [`Planes`], kept from one pixel row to the next: consecutive pixel rows read the
 /// same or the next texel rows.
 #[derive(Default)]
 pub(super) struct TexelRows {
-    rows: [Vec<P4>; 2],
+    rows: [Vec<Planes>; 2],
     /// The texel row each of `rows` holds; -1 for none.
     tags: [i64; 2],
 }
@@ -149,7 +167,7 @@ impl TexelRows {
         width: usize,
         groups: &[Group],
         l: i64,
-    ) -> [&[P4]; 2] {
+    ) -> [&[Planes]; 2] {
         if self.tags[0] != l {
             if self.tags[1] == l {
                 self.rows.swap(0, 1);
@@ -172,12 +190,12 @@ impl TexelRows {
 }
 
 /// One texel row's horizontal lerps at `groups` (meaningless where the core sampler decides).
-fn filter_row<T: Texel>(out: &mut Vec<P4>, row: &[T], groups: &[Group]) {
+fn filter_row<T: Texel>(out: &mut Vec<Planes>, row: &[T], groups: &[Group]) {
     out.clear();
     out.extend(groups.iter().map(|g| {
         let left = T::planes(g.left.map(|k| row[k as usize]));
         let right = T::planes(g.right.map(|k| row[k as usize]));
-        P4::lerp(left, right, g.fx)
+        lerp_planes(left, right, BASELINE.load(&g.fx))
     }));
 }
 
@@ -282,22 +300,22 @@ impl<'l, T: Texel> TexelRow<'l, T> {
         width: usize,
         c: &Column,
         sampler: &LodSampler,
-    ) -> F4 {
-        let texels = self.texels;
+    ) -> Channels {
+        let (l, texels) = (BASELINE, self.texels);
         if c.k < 0 || texels.is_empty() {
-            return F4::from_rgba(sampler.sample(c.u, self.v));
+            return l.rgba(sampler.sample(c.u, self.v));
         }
         let at = c.k as usize;
         if !LINEAR {
             return texels[at].unpack();
         }
-        let fx = F4::splat(c.fx);
-        let top = F4::lerp(texels[at].unpack(), texels[at + 1].unpack(), fx);
-        let bottom = F4::lerp(
+        let fx = l.splat(c.fx);
+        let top = l.lerp(texels[at].unpack(), texels[at + 1].unpack(), fx);
+        let bottom = l.lerp(
             texels[at + width].unpack(),
             texels[at + width + 1].unpack(),
             fx,
         );
-        F4::lerp(top, bottom, F4::splat(self.fy))
+        l.lerp(top, bottom, l.splat(self.fy))
     }
 }

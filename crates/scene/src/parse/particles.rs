@@ -11,7 +11,8 @@ use pointillist_particles::{
 };
 use toml::de::DeValue;
 
-use super::{Charge, Parser, state_value};
+use super::states::state_value;
+use super::{Charge, Parser};
 use crate::reader::{
     Source, Value, array, boolean, count, entries, expected, fields, finite, float, floats, index,
     integer_in, join, one_of, string, u32_value,
