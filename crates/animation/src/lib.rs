@@ -21,7 +21,6 @@ use std::path::{Path, PathBuf};
 
 use pointillist_core::Device;
 use pointillist_core::device::Backend;
-use pointillist_core::device::Rgba8;
 use pointillist_image::output::Destination;
 pub use pointillist_image::png::Compression;
 use pointillist_particles::DrawBuffers;
@@ -262,19 +261,22 @@ pub fn animate<B: Backend>(
     let mut buffers = DrawBuffers::new();
     observer.start(frames);
     // Pipelined: this thread simulates and draws frame k + 1 while another encodes frame k.
-    // Each frame's pixels are converted to RGBA8 where they lie and handed over (at most one
-    // waiting), so frames reach the sink in order, and the bytes are those of drawing and
-    // encoding one frame after another.
+    // Two RGBA buffers go round (drawn -> `full` -> encoded -> `free`), so frames reach the
+    // sink in order, and the bytes are those of drawing and encoding one frame after another.
     let sink = std::thread::scope(|s| -> Result<Sink<'_>, String> {
-        let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Rgba8>(1);
+        let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Vec<u8>>(1);
+        let (free_tx, free_rx) = std::sync::mpsc::channel::<Vec<u8>>();
         let encoder = s.spawn(move || -> Result<Sink<'_>, String> {
             let mut sink = sink;
             for mut rgba in full_rx {
                 sink.frame(width, height, &mut rgba, out)?;
+                // The drawing thread may have stopped; the buffer is then not needed.
+                let _ = free_tx.send(rgba);
             }
             Ok(sink)
         });
         let drawn = (|| -> Result<(), String> {
+            let mut spare = vec![Vec::new(), Vec::new()];
             for k in 0..frames {
                 scene
                     .render_frame(&mut device, &mut system, &mut buffers, k)
@@ -282,8 +284,18 @@ pub fn animate<B: Backend>(
                 let target = device
                     .read_target()
                     .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
-                // The encoder failed, and its error is the one to report.
-                if full_tx.send(target.into_rgba8()).is_err() {
+                // No buffer back: the encoder failed, and its error is the one to report.
+                let Some(mut rgba) = spare.pop().or_else(|| free_rx.recv().ok()) else {
+                    return Ok(());
+                };
+                rgba.clear();
+                rgba.extend(
+                    target
+                        .color
+                        .iter()
+                        .flat_map(|&c| pointillist_core::color::argb_to_rgba8(c)),
+                );
+                if full_tx.send(rgba).is_err() {
                     return Ok(());
                 }
                 observer.frame_done(k)?;

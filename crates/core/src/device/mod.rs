@@ -259,12 +259,6 @@ impl std::ops::Deref for Rgba8 {
     }
 }
 
-impl std::ops::DerefMut for Rgba8 {
-    fn deref_mut(&mut self) -> &mut [u8] {
-        bytemuck::cast_slice_mut(&mut self.words)
-    }
-}
-
 /// What a backend implements. The device validates every call before it reaches here.
 pub trait Backend {
     /// Creates the target, cleared.
