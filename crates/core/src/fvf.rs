@@ -354,7 +354,7 @@ pub enum RowValue {
     Int(i64),
 }
 
-/// Appends one typed row ("x y z [rhw] [psize] [diffuse] [specular] [u v]...": floats for float
+/// Appends one typed row (`x y z [rhw] [psize] [diffuse] [specular] [u v]...`: floats for float
 /// fields, integers 0..=0xFFFFFFFF for colours) to `out` as FVF bytes.
 pub fn encode_row(fvf: Fvf, row: &[RowValue], out: &mut Vec<u8>) -> Result<(), FvfError> {
     let expected = fvf.row_len();

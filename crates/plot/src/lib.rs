@@ -4,9 +4,10 @@
 //! A [`Plot`] names the target (size, clear colour), a blend preset ([`Blend`]), the data
 //! ranges the axes show ([`axes`]) and an optional sprite texture. [`Points`] are columns read
 //! in place: x, y, optional depth, sizes and colours, each a constant or one value per point.
-//! Drawing turns each point into one pre-transformed vertex ([`columns`]) and issues ordinary
-//! D3D9 draws on a [`Device`], with the states [`Plot::configure`] sets, so the pixels are
-//! those of the same vertices and states in a scene file drawn by `pointillist render`.
+//! Drawing turns each point into one pre-transformed vertex (the private `columns` module) and
+//! issues ordinary D3D9 draws on a [`Device`], with the states [`Plot::configure`] sets, so the
+//! pixels are those of the same vertices and states in a scene file drawn by `pointillist
+//! render`.
 //!
 //! For drawing one set of points in parts on several machines, exactly:
 //! - presets that commute ([`Blend::commutes`]) draw each part onto a zero target

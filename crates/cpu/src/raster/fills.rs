@@ -423,6 +423,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
                 if modulate.diffuse_alpha {
                     shaded[3] = diffuse_alpha;
                 }
+                // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
                 let src = l.quantize(shaded);
                 let at = row + n;
                 let old = l.load_u(&band.color[at..]);
