@@ -184,20 +184,6 @@ pub(crate) trait Lanes: Copy + Send + Sync {
     fn select_f(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F;
 }
 
-/// SPEC 5.5's ONE, ONE, ADD of the D3DCOLOR `src` onto `dst`: the per-channel saturating sum,
-/// which is what the float formula rounds to (the additive blender's test checks every pair
-/// of bytes).
-#[inline(always)]
-pub(crate) fn adds_u8_pixel(src: u32, dst: u32) -> u32 {
-    let (s, d) = (src.to_le_bytes(), dst.to_le_bytes());
-    u32::from_le_bytes([
-        s[0].saturating_add(d[0]),
-        s[1].saturating_add(d[1]),
-        s[2].saturating_add(d[2]),
-        s[3].saturating_add(d[3]),
-    ])
-}
-
 /// SPEC 5.5's SRCALPHA, INVSRCALPHA, ADD of the D3DCOLOR `src` onto `dst`, channel by channel
 /// in integers: `round((s * a + d * (255 - a)) / 255)` of the bytes, `a` the source alpha.
 ///

@@ -5,7 +5,7 @@
 use pointillist_core::color::{f32_to_unorm8, unorm8_to_f32};
 use pointillist_core::states::Cmp;
 
-use super::{Lanes, Quad, adds_u8_pixel, modulate_pixel, source_alpha_pixel};
+use super::{Lanes, Quad, modulate_pixel, source_alpha_pixel};
 
 /// The portable twin: `W` lanes of the scalar reference, lane by lane.
 #[derive(Copy, Clone, Debug, Default)]
@@ -152,7 +152,10 @@ impl<const W: usize> Lanes for Portable<W> {
     }
     #[inline(always)]
     fn adds_u8(self, a: [u32; W], b: [u32; W]) -> [u32; W] {
-        std::array::from_fn(|i| adds_u8_pixel(a[i], b[i]))
+        std::array::from_fn(|i| {
+            let (x, y) = (a[i].to_le_bytes(), b[i].to_le_bytes());
+            u32::from_le_bytes(std::array::from_fn(|k| x[k].saturating_add(y[k])))
+        })
     }
     #[inline(always)]
     fn source_alpha(self, src: [u32; W], dst: [u32; W]) -> [u32; W] {

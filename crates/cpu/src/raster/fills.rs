@@ -390,6 +390,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
     for j in rows(p.rect, band) {
         let texel_row = TexelRow::new::<LINEAR>(j, p, level, level_texels, single);
         let TexelRow { fy, texels, .. } = texel_row;
+        let fy = l.splat(fy);
         let direct = !texels.is_empty();
         // The horizontal lerps of texel rows l and l + 1 for the spans.
         let [top, bottom] = if direct && filtered_rows {
@@ -410,7 +411,7 @@ fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
                 // Four pixels at once, the arithmetic of `TexelRow::texel` and `Modulate` lane
                 // by lane.
                 let texel = if LINEAR {
-                    lerp_planes(top[n / 4], bottom[n / 4], l.splat(fy))
+                    lerp_planes(top[n / 4], bottom[n / 4], fy)
                 } else {
                     T::planes(std::array::from_fn(|i| texels[four[i].k as usize]))
                 };
