@@ -225,8 +225,7 @@ fn div_255(x: u32) -> u32 {
 }
 
 /// Four lanes as the four channels of one colour in D3DCOLOR byte order (blue, green, red,
-/// alpha; lane `c` holds channel `c`), for the fills that shade one pixel at a time, and four
-/// such colours as four planes ([`Quad::transpose`]) for those that shade four.
+/// alpha; lane `c` holds channel `c`), for the fills that shade one pixel at a time.
 pub(crate) trait Quad: Lanes {
     /// SPEC 1's unpack of the D3DCOLOR `c` (`color::unpack`, reordered into lanes).
     fn color(self, c: u32) -> Self::F;
@@ -235,16 +234,6 @@ pub(crate) trait Quad: Lanes {
     fn pack_color(self, v: Self::F) -> u32;
     /// The blue, green and red lanes of `rgb` with the alpha lane of `alpha`.
     fn with_alpha_of(self, rgb: Self::F, alpha: Self::F) -> Self::F;
-    /// Lane `j` of vector `i` becomes lane `i` of vector `j`: four colours become the planes
-    /// [`Lanes::unpack`] gives of their D3DCOLORs.
-    fn transpose(self, v: [Self::F; 4]) -> [Self::F; 4];
-    /// The four lanes.
-    #[inline(always)]
-    fn lanes(self, v: Self::F) -> [f32; 4] {
-        let mut out = [0.0; MAX_LANES];
-        self.store(&mut out, v);
-        [out[0], out[1], out[2], out[3]]
-    }
     /// An RGBA colour of the reference arithmetic, reordered into lanes.
     #[inline(always)]
     fn rgba(self, [r, g, b, a]: pointillist_core::color::Rgba) -> Self::F {
@@ -259,21 +248,21 @@ pub(crate) type Baseline = Sse2;
 #[cfg(not(target_arch = "x86_64"))]
 pub(crate) type Baseline = Portable<4>;
 
-// The fills shade four pixels at a time in [`Baseline`]'s lanes, and a colour's four
-// channels are one vector of them.
+// A colour's four channels are one vector of [`Baseline`]'s lanes, and rectangles of one
+// colour blend four pixels at a time in them.
 const _: () = assert!(<Baseline as Lanes>::N == 4);
 
-/// One colour's four channels, or one channel of four pixels, in [`Baseline`]'s lanes.
+/// One colour's four channels in [`Baseline`]'s lanes.
 pub(crate) type Channels = <Baseline as Lanes>::F;
 
 /// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
-/// single pixels and four-pixel spans of the fills, and the vertices the stage's batches
-/// leave over.
+/// single pixels of the fills, the rectangles of one colour, the wide spans on the portable
+/// level, and the vertices the stage's batches leave over.
 #[cfg(target_arch = "x86_64")]
 pub(crate) const BASELINE: Baseline = Sse2::new();
 /// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
-/// single pixels and four-pixel spans of the fills, and the vertices the stage's batches
-/// leave over.
+/// single pixels of the fills, the rectangles of one colour, the wide spans on the portable
+/// level, and the vertices the stage's batches leave over.
 #[cfg(not(target_arch = "x86_64"))]
 pub(crate) const BASELINE: Baseline = Portable;
 
@@ -738,11 +727,15 @@ mod tests {
     fn quad_matches_the_reference<L: Quad>(l: L) {
         use pointillist_core::color::{pack, unpack};
         let bits = |v: [f32; 4]| v.map(f32::to_bits);
+        let lanes = |v| {
+            let out = f(l, v);
+            [out[0], out[1], out[2], out[3]]
+        };
         let mut rng = Rng(0x1234_5678_9ABC_DEF1);
         for _ in 0..100_000 {
             let c = rng.next();
             let [r, g, b, a] = unpack(c);
-            assert_eq!(bits(l.lanes(l.color(c))), bits([b, g, r, a]), "{c:08x}");
+            assert_eq!(bits(lanes(l.color(c))), bits([b, g, r, a]), "{c:08x}");
             assert_eq!(l.pack_color(l.color(c)), c);
             let v = [
                 float(&mut rng),
@@ -757,17 +750,9 @@ mod tests {
                 float(&mut rng),
                 float(&mut rng),
             ];
-            let [vb, vg, vr, _] = l.lanes(l.rgba(v));
-            let got = l.lanes(l.with_alpha_of(l.rgba(v), l.rgba(o)));
+            let [vb, vg, vr, _] = lanes(l.rgba(v));
+            let got = lanes(l.with_alpha_of(l.rgba(v), l.rgba(o)));
             assert_eq!(bits(got), bits([vb, vg, vr, o[3]]), "{v:?} {o:?}");
-            let m: [[f32; 4]; 4] =
-                std::array::from_fn(|_| std::array::from_fn(|_| float(&mut rng)));
-            let t = l
-                .transpose(m.map(|row| l.load(&row)))
-                .map(|v| bits(l.lanes(v)));
-            let want: [[u32; 4]; 4] =
-                std::array::from_fn(|j| std::array::from_fn(|i| m[i][j].to_bits()));
-            assert_eq!(t, want, "{m:?}");
         }
     }
 

@@ -208,8 +208,4 @@ impl Quad for Portable<4> {
     fn with_alpha_of(self, rgb: [f32; 4], alpha: [f32; 4]) -> [f32; 4] {
         [rgb[0], rgb[1], rgb[2], alpha[3]]
     }
-    #[inline(always)]
-    fn transpose(self, v: [[f32; 4]; 4]) -> [[f32; 4]; 4] {
-        std::array::from_fn(|j| std::array::from_fn(|i| v[i][j]))
-    }
 }

@@ -365,19 +365,4 @@ impl Quad for Sse2 {
             _mm_or_ps(_mm_and_ps(mask, rgb), _mm_andnot_ps(mask, alpha))
         }
     }
-    #[inline(always)]
-    fn transpose(self, [a, b, c, d]: [__m128; 4]) -> [__m128; 4] {
-        with_features! {
-            let ab_lo = _mm_unpacklo_ps(a, b); // a0 b0 a1 b1
-            let cd_lo = _mm_unpacklo_ps(c, d); // c0 d0 c1 d1
-            let ab_hi = _mm_unpackhi_ps(a, b); // a2 b2 a3 b3
-            let cd_hi = _mm_unpackhi_ps(c, d); // c2 d2 c3 d3
-            [
-                _mm_movelh_ps(ab_lo, cd_lo),
-                _mm_movehl_ps(cd_lo, ab_lo),
-                _mm_movelh_ps(ab_hi, cd_hi),
-                _mm_movehl_ps(cd_hi, ab_hi),
-            ]
-        }
-    }
 }

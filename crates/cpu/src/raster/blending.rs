@@ -179,7 +179,7 @@ pub(super) fn write_pixel<B: Blender>(
 /// SPEC 5.4: whether a pixel at depth `z` passes the depth test at `at` (always, without one),
 /// writing `z` there when it passes and ZWRITEENABLE is on.
 #[inline(always)]
-pub(super) fn depth_test(ctx: &DrawContext, band: &mut Band, at: usize, z: f32) -> bool {
+fn depth_test(ctx: &DrawContext, band: &mut Band, at: usize, z: f32) -> bool {
     let Some(depth) = ctx.pixel.depth else {
         return true;
     };

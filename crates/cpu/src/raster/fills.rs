@@ -1,7 +1,9 @@
 //! Fills: the covered pixels of one point inside a band (SPEC 4, 5): a flat colour shaded once
 //! ([`fill_flat`], [`fill_solid`]), the general cascade per pixel ([`fill_sprite`]), or a
-//! textured sprite with one MODULATE stage ([`fill_modulate`]: four pixels at a time, pixel by
-//! pixel under four columns, or the wide spans of [`super::span`] for binned sprites).
+//! textured sprite with one MODULATE stage ([`fill_modulate`]): the wide spans of
+//! [`super::span`], or, for what they do not take, pixel by pixel ([`fill_pixels`]: sprites
+//! under four columns, per-pixel clip planes, a blend of two mip levels, a level without its
+//! planar form, texel indices outside the planar form's margin).
 //!
 //! Contract: each fill writes, at every covered pixel the clip planes keep, the pixel of
 //! core's [`PixelSetup::shade`] and [`blend`], in the point's order.
@@ -15,17 +17,13 @@ use pointillist_core::point::{PixelPlane, PixelRect, ScreenPoint, sprite_coord};
 
 use super::bands::{Band, rows};
 use super::binning::Sprite;
-use super::blending::{Blender, depth_run, depth_test, write_pixel};
+use super::blending::{Blender, depth_run, write_pixel};
 use super::shading::{Modulate, ModulateAlpha, Shading, inputs};
-use super::texels::{
-    Column, Group, LevelTexels, Planes, StageTexture, Texel, TexelRow, TexelRows, lerp_planes,
-    sprite_samplers,
-};
+use super::texels::{Column, LevelTexels, StageTexture, Texel, TexelRow, sprite_samplers};
 use super::{DrawContext, span};
-use crate::lanes::{BASELINE, Lanes, MAX_LANES, Quad};
 
-/// Binned sprites this many columns wide or more fill through the wide spans ([`span`]);
-/// narrower ones through [`fill_narrow`] (measured: 2 and 3 columns are faster there).
+/// Sprites this many columns wide or more fill through the wide spans ([`span`]); narrower
+/// ones pixel by pixel ([`fill_narrow`]; measured: 2 and 3 columns are faster there).
 const SPAN_MIN_COLUMNS: i32 = 4;
 
 /// Per-point working memory, reused from point to point so no point allocates.
@@ -33,12 +31,6 @@ const SPAN_MIN_COLUMNS: i32 = 4;
 pub(super) struct Scratch {
     /// Sprite u per covered column (SPEC 4.3).
     u: Vec<f32>,
-    /// Texel column per covered column, for [`fill_modulate`].
-    cols: Vec<Column>,
-    /// The covered columns four at a time, for [`fill_modulate`] with linear filtering.
-    groups: Vec<Group>,
-    /// Filtered texel rows, for [`fill_modulate`] with linear filtering.
-    texel_rows: TexelRows,
     /// The wide spans' columns and rows.
     span: span::SpanScratch,
 }
@@ -199,10 +191,10 @@ impl<'p> SpriteView<'p> {
     }
 }
 
-/// Fills binned sprites one after another, as [`fill_modulate`] does: with one sampler for
-/// every size (no level of detail), it and its filter are resolved once for the band instead
-/// of once a sprite, and sprites at least [`SPAN_MIN_COLUMNS`] wide fill through the wide spans
-/// ([`span::fill`]) where the draw has them.
+/// Fills a band's binned sprites one after another, as [`fill_modulate`] does: with one
+/// sampler for every size (no level of detail) whose level has its planar form, the sampler,
+/// its filter, its texels and the form are resolved once for the band instead of once a
+/// sprite.
 #[inline]
 pub(super) fn fill_sprites<B: Blender>(
     points: &[Sprite],
@@ -214,8 +206,13 @@ pub(super) fn fill_sprites<B: Blender>(
     let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) else {
         return;
     };
-    // The match once for the band, each arm its own loop.
-    let Some(f) = &t.fixed else {
+    // The level's planar form is built up front for a fixed level of at most 64K texels
+    // ([`StageTexture::unpack`]); the others are resolved sprite by sprite.
+    let wide = t
+        .fixed
+        .as_ref()
+        .and_then(|f| Some((f, ctx.spans?, t.built(f)?)));
+    let Some((f, lanes, planar)) = wide else {
         for p in points {
             fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
         }
@@ -223,14 +220,12 @@ pub(super) fn fill_sprites<B: Blender>(
     };
     let (packed, unpacked) = (&f.level().texels[..], &t.unpacked[..]);
     let linear = f.is_linear();
-    // The wide spans' vectors and level, decided once for the band.
-    let wide = ctx.spans.zip(t.planar.as_ref());
+    // The match once for the band, each arm its own loop.
     macro_rules! each {
         ($linear:literal, $texels:expr) => {
             for p in points {
                 let view = p.view();
-                if let Some((lanes, planar)) = wide
-                    && view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
+                if view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
                     && span::fill(
                         lanes,
                         linear,
@@ -247,10 +242,11 @@ pub(super) fn fill_sprites<B: Blender>(
                     continue;
                 }
                 let level = LevelTexels {
+                    stage: t,
                     sampler: f,
                     texels: $texels,
                 };
-                fill_modulate_at::<B, $linear, _>(ctx, b, &view, band, s, alpha, level);
+                fill_per_pixel::<B, $linear, _>(ctx, b, &view, band, alpha, level);
             }
         };
     }
@@ -276,6 +272,7 @@ pub(super) fn fill_modulate<B: Blender>(
 ) {
     let sampler = t.sprite_sampler(p.size);
     let level = LevelTexels {
+        stage: t,
         sampler: &sampler,
         texels: &sampler.level().texels[..],
     };
@@ -287,7 +284,9 @@ pub(super) fn fill_modulate<B: Blender>(
 }
 
 /// [`fill_modulate`] with the sampler at the sprite's level of detail, linear (`LINEAR`) or
-/// point, reading the texels of its `level` (packed or unpacked).
+/// point: through the wide spans where they take the sprite and the level has its planar form
+/// (built here once paid for, [`StageTexture::planar`]), else [`fill_per_pixel`] on the
+/// level's texels (packed or unpacked).
 #[inline(always)]
 fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
@@ -298,17 +297,76 @@ fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
     alpha: ModulateAlpha,
     level: LevelTexels<T>,
 ) {
-    if p.rect.x1 - p.rect.x0 < 4 {
+    let columns = p.rect.x1 - p.rect.x0;
+    // The spans take no per-pixel clip planes (a sprite cut by a user clip plane).
+    if columns >= SPAN_MIN_COLUMNS
+        && p.planes.is_empty()
+        && let Some(lanes) = ctx.spans
+        && let pixels = rows(p.rect, band).len() as u64 * columns as u64
+        && let Some(planar) = level.stage.planar(level.sampler, pixels)
+        && span::fill(
+            lanes,
+            LINEAR,
+            span::SpanDraw { ctx, b },
+            p,
+            band,
+            &mut s.span,
+            span::SpanTexture {
+                planes: planar,
+                alpha,
+            },
+        )
+    {
+        return;
+    }
+    fill_per_pixel::<B, LINEAR, T>(ctx, b, p, band, alpha, level);
+}
+
+/// [`fill_modulate`] pixel by pixel: [`fill_narrow`] under four columns, else
+/// [`fill_pixels`].
+#[inline(always)]
+fn fill_per_pixel<B: Blender, const LINEAR: bool, T: Texel>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    alpha: ModulateAlpha,
+    level: LevelTexels<T>,
+) {
+    if p.rect.x1 - p.rect.x0 < SPAN_MIN_COLUMNS {
         fill_narrow::<B, LINEAR, T>(ctx, b, p, band, alpha, level);
     } else {
-        fill_modulate_with::<B, LINEAR, T>(ctx, b, p, band, s, alpha, level);
+        fill_pixels::<B, LINEAR, T>(ctx, b, p, band, alpha, level);
     }
 }
 
-/// [`fill_modulate`] for a sprite under four columns wide, too narrow for spans: its columns
-/// on the stack, each pixel through [`TexelRow::texel`] (the commonest particle is a few pixels).
-/// Inline, so that it inlines into [`fill_sprites`]' loop, which is instantiated where it is
-/// called.
+/// [`fill_modulate`] pixel by pixel for a sprite of four columns or more: strips of at most
+/// three columns through [`fill_narrow`]. Out of line: the spans take most wide sprites.
+#[inline(never)]
+fn fill_pixels<B: Blender, const LINEAR: bool, T: Texel>(
+    ctx: &DrawContext,
+    b: &B,
+    p: &SpriteView,
+    band: &mut Band,
+    alpha: ModulateAlpha,
+    level: LevelTexels<T>,
+) {
+    for x0 in (p.rect.x0..p.rect.x1).step_by(3) {
+        let strip = SpriteView {
+            rect: PixelRect {
+                x0,
+                x1: p.rect.x1.min(x0 + 3),
+                ..p.rect
+            },
+            ..*p
+        };
+        fill_narrow::<B, LINEAR, T>(ctx, b, &strip, band, alpha, level);
+    }
+}
+
+/// [`fill_modulate`] for a sprite under four columns wide: its columns on the stack, each
+/// pixel through [`TexelRow::texel`] (the commonest particle is a few pixels). Inline, so that
+/// it inlines into [`fill_sprites`]' loop, which is instantiated where it is called.
 #[inline]
 fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
@@ -316,7 +374,9 @@ fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     p: &SpriteView,
     band: &mut Band,
     alpha: ModulateAlpha,
-    LevelTexels { sampler, texels }: LevelTexels<T>,
+    LevelTexels {
+        sampler, texels, ..
+    }: LevelTexels<T>,
 ) {
     let level = sampler.level();
     let single = sampler.mip_blend().is_none();
@@ -342,120 +402,6 @@ fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
             let color = modulate.shade(texel_row.texel::<LINEAR>(width, c, sampler));
             if alpha_test_passes(ctx.pixel.alpha_test, color) {
                 write_pixel(ctx, b, band, row + n, p.z, color);
-            }
-        }
-    }
-}
-
-/// [`fill_modulate`] for linear (`LINEAR`) or point filtering: texel indices and weights per
-/// column and per row, then four pixels at a time where the texels of all four are inside the
-/// level (one texel read each, or one vertical lerp of two filtered texel rows,
-/// [`TexelRows`]), and [`TexelRow::texel`] for the other pixels.
-fn fill_modulate_with<B: Blender, const LINEAR: bool, T: Texel>(
-    ctx: &DrawContext,
-    b: &B,
-    p: &SpriteView,
-    band: &mut Band,
-    s: &mut Scratch,
-    alpha: ModulateAlpha,
-    LevelTexels {
-        sampler,
-        texels: level_texels,
-    }: LevelTexels<T>,
-) {
-    let (cols, groups, texel_rows) = (&mut s.cols, &mut s.groups, &mut s.texel_rows);
-    texel_rows.reset();
-    let level = sampler.level();
-    let single = sampler.mip_blend().is_none();
-    cols.clear();
-    cols.extend((p.rect.x0..p.rect.x1).map(|i| Column::new::<LINEAR>(i, p, level.width, single)));
-    // Spans of four pixels need no clip planes. With linear filtering they read filtered texel
-    // rows, which pay for sprites four columns wide or more.
-    let spans = p.planes.is_empty();
-    let filtered_rows = LINEAR && spans;
-    groups.clear();
-    if filtered_rows {
-        groups.extend(cols.chunks(4).map(Group::new));
-    }
-    let modulate = Modulate::new(alpha, p.diffuse);
-    // Its planar form, for the spans.
-    let l = BASELINE;
-    let m4: Planes = l.lanes(modulate.m).map(|c| l.splat(c));
-    let diffuse_alpha = l.splat(l.lanes(modulate.diffuse)[3]);
-    let mask = ctx.pixel.write_mask;
-    // Neither alpha nor depth test: a span writes all four pixels.
-    let plain = ctx.pixel.alpha_test.is_none() && ctx.pixel.depth.is_none();
-    let width = level.width as usize;
-    let len = cols.len();
-    for j in rows(p.rect, band) {
-        let texel_row = TexelRow::new::<LINEAR>(j, p, level, level_texels, single);
-        let TexelRow { fy, texels, .. } = texel_row;
-        let fy = l.splat(fy);
-        let direct = !texels.is_empty();
-        // The horizontal lerps of texel rows l and l + 1 for the spans.
-        let [top, bottom] = if direct && filtered_rows {
-            texel_rows.pair(level_texels, width, groups, texel_row.l)
-        } else {
-            [&[][..], &[][..]]
-        };
-        let row = (j - band.y0) as usize * band.width + p.rect.x0 as usize;
-        let mut n = 0;
-        while n < len {
-            let four = &cols[n..len.min(n + 4)];
-            let direct4 = if LINEAR {
-                filtered_rows && groups[n / 4].direct
-            } else {
-                four.len() == 4 && four.iter().all(|c| c.k >= 0)
-            };
-            if spans && direct && n % 4 == 0 && direct4 {
-                // Four pixels at once, the arithmetic of `TexelRow::texel` and `Modulate` lane
-                // by lane.
-                let texel = if LINEAR {
-                    lerp_planes(top[n / 4], bottom[n / 4], fy)
-                } else {
-                    T::planes(std::array::from_fn(|i| texels[four[i].k as usize]))
-                };
-                let mut shaded = [
-                    l.mul(texel[0], m4[0]),
-                    l.mul(texel[1], m4[1]),
-                    l.mul(texel[2], m4[2]),
-                    l.mul(texel[3], m4[3]),
-                ];
-                if modulate.diffuse_alpha {
-                    shaded[3] = diffuse_alpha;
-                }
-                // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
-                let src = l.quantize(shaded);
-                let at = row + n;
-                let old = l.load_u(&band.color[at..]);
-                let new = b.blend_lanes(l, src, old);
-                if plain {
-                    l.store_u(&mut band.color[at..], l.write_masked(mask, new, old));
-                    n += 4;
-                    continue;
-                }
-                let (mut src_px, mut new_px) = ([0; MAX_LANES], [0; MAX_LANES]);
-                l.store_u(&mut src_px, src);
-                l.store_u(&mut new_px, l.write_masked(mask, new, old));
-                for i in 0..4 {
-                    // Alpha test, then depth test and write (SPEC 5.3, 5.4), as write_pixel.
-                    if alpha_test_passes(ctx.pixel.alpha_test, src_px[i])
-                        && depth_test(ctx, band, at + i, p.z)
-                    {
-                        band.color[at + i] = new_px[i];
-                    }
-                }
-                n += 4;
-                continue;
-            }
-            let c = &cols[n];
-            n += 1;
-            if !p.keeps(p.rect.x0 + n as i32 - 1, j) {
-                continue;
-            }
-            let color = modulate.shade(texel_row.texel::<LINEAR>(width, c, sampler));
-            if alpha_test_passes(ctx.pixel.alpha_test, color) {
-                write_pixel(ctx, b, band, row + n - 1, p.z, color);
             }
         }
     }

@@ -11,9 +11,11 @@
 //! 2. [`bands`]: the bands of target rows, filled in parallel, each writing a deferred clear
 //!    and then its points in vertex order.
 //! 3. [`fills`]: a point's covered pixels: flat colour, per-pixel cascade, or a textured
-//!    sprite with one MODULATE stage (four pixels at a time, or pixel by pixel when narrow).
-//! 4. [`span`]: wide sprites of a binned draw, [`Lanes::N`] pixels at a time.
-//! 5. [`texels`]: the stage textures and the texels a sprite's pixels read (SPEC 4.3, 5.2).
+//!    sprite with one MODULATE stage (the wide spans, or pixel by pixel where they do not
+//!    apply).
+//! 4. [`span`]: the MODULATE sprite kernel, [`Lanes::N`] pixels at a time.
+//! 5. [`texels`]: the stage textures, their levels' planar forms, and the texels a sprite's
+//!    pixels read per pixel (SPEC 4.3, 5.2).
 //! 6. [`shading`]: the shading kind of the draw and the single MODULATE stage (SPEC 5.1).
 //! 7. [`blending`]: depth test, blend and channel mask of a shaded pixel (SPEC 5.4 to 5.6).
 //!
@@ -82,8 +84,9 @@ struct DrawContext<'a> {
     shading: Shading,
     textures: [Option<StageTexture<'a>>; MAX_STAGES],
     vertices: &'a [u8],
-    /// The vectors the wide spans (and the point stage's batches) run on; none on the portable
-    /// level, whose spans are the tests' twin (binned sprites then take the four-pixel spans).
+    /// The vectors the wide spans run on: [`LanesLevel::detect`]'s, or the baseline's on the
+    /// portable level. Tests set the portable twin, or none to fill every MODULATE sprite pixel
+    /// by pixel.
     spans: Option<LanesLevel>,
 }
 
@@ -149,6 +152,7 @@ fn draw_context(ctx: &DrawContext, out: DrawTarget) {
 /// What the fills need of `draw`, once.
 fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
     let (state, pixel) = (draw.state, draw.pixel.clone());
+    let shading = Shading::of(&pixel);
     let textures = std::array::from_fn(|i| {
         let stage = &pixel.stages[i];
         if i >= pixel.stage_count || !stage.samples {
@@ -156,38 +160,43 @@ fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
         }
         state.textures[i].as_deref().map(|texture| {
             let sampler = SamplerDesc::from_states(&state.sampler_states[i]);
-            StageTexture {
-                texture,
-                sampler,
-                set: stage.texcoord_set,
-                fixed: (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0)),
-                unpacked: Vec::new(),
-                planar: None,
-            }
+            // The wide spans read the single MODULATE stage.
+            let spans = i == 0 && matches!(shading, Shading::Modulate(_));
+            StageTexture::new(texture, sampler, stage.texcoord_set, spans)
         })
     });
     let points = draw.points.clone();
-    let spans = Some(LanesLevel::detect()).filter(|l| !matches!(l, LanesLevel::Portable));
+    let level = LanesLevel::detect();
+    // The point stage's batches pay on vector levels only.
+    let batches = Some(level).filter(|l| !matches!(l, LanesLevel::Portable));
+    let spans = match level {
+        // The portable level's eight scalar lanes are the tests' twin of the spans; its draws
+        // take the baseline's lanes, as its per-pixel fills do (measured: W2 and W3 take 9.9 G
+        // and 18.7 G instructions on the twin, 4.8 G and 8.7 G on SSE2).
+        #[cfg(target_arch = "x86_64")]
+        LanesLevel::Portable => LanesLevel::Sse2(crate::lanes::BASELINE),
+        l => l,
+    };
     let mut ctx = DrawContext {
         binned: false,
         scratch: DRAW_SCRATCH_BYTES as usize,
-        squares: SquareStage::new(&points, spans),
+        squares: SquareStage::new(&points, batches),
         flat: pixel.is_flat(),
         points,
-        shading: Shading::of(&pixel),
+        shading,
         pixel,
         blend: draw.blend,
         textures,
         vertices,
-        spans,
+        spans: Some(spans),
     };
     ctx.binned = ctx.bins();
-    // Binned sprites read stage 0's texels unpacked, when its level is small.
+    // Binned sprites read stage 0's fixed level unpacked and planar, when it is small.
     if ctx.binned
         && matches!(ctx.shading, Shading::Modulate(_))
         && let Some(t) = &mut ctx.textures[0]
     {
-        t.unpack(ctx.spans.is_some());
+        t.unpack();
     }
     ctx
 }

@@ -81,10 +81,10 @@ pub(super) fn inputs(p: &ScreenPoint) -> ShadeInputs {
 pub(super) struct Modulate {
     /// The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
     /// passes through unchanged.
-    pub(super) m: Channels,
-    pub(super) diffuse: Channels,
+    m: Channels,
+    diffuse: Channels,
     /// The result takes the diffuse alpha.
-    pub(super) diffuse_alpha: bool,
+    diffuse_alpha: bool,
 }
 
 impl Modulate {

@@ -1,11 +1,12 @@
-//! Wide spans of textured sprites (SPEC 4.3, 5.1 to 5.6): the fill of a binned sprite with one
-//! MODULATE stage whose sampler reads one level without level of detail, [`Lanes::N`] pixels a
-//! step on the machine's widest vectors ([`Level`]); sprites at most eight pixels wide take
-//! the AVX2 code on an AVX-512 machine, which measured faster there than sixteen lanes (and
-//! than eight lanes compiled for AVX-512).
+//! Wide spans of textured sprites (SPEC 4.3, 5.1 to 5.6): the fill of a sprite with one
+//! MODULATE stage whose sampler reads one level (any level of detail, no blend of two),
+//! [`Lanes::N`] pixels a step on the machine's widest vectors ([`Level`]); sprites at most
+//! eight pixels wide take the AVX2 code on an AVX-512 machine, which measured faster there than
+//! sixteen lanes (and than eight lanes compiled for AVX-512).
 //!
-//! The level is unpacked once per draw into four channel planes with a margin of one texel on
-//! every side that holds what the address mode reads there ([`PlanarLevel`]). The texel indices
+//! The level is unpacked at most once per draw into four channel planes with a margin of one
+//! texel on every side that holds what the address mode reads there ([`PlanarLevel`], built
+//! when the draw's sprites on it pay for it). The texel indices
 //! of a sprite's covered pixels lie within that margin (its coordinates are in `0..=1`), so
 //! every pixel reads its texels directly: column `k` of the sampler is entry `k + 1` of a plane
 //! row, row `l` is plane row `l + 1`. A sprite is filled span of columns by span of columns,
@@ -16,7 +17,7 @@
 //! texels, so its modulate and quantization are one integer product of the packed bytes
 //! ([`Lanes::modulate`]).
 //! A sprite whose indices leave the margin (edges snapped outside the square) is left to the
-//! per-pixel fill.
+//! per-pixel fill, as are those the spans do not take (see [`super::fills`]).
 //!
 //! Contract: the arithmetic is core's sampler, MODULATE stage and blend, operation for
 //! operation, or an integer formula tested equal to it for every input ([`Lanes::modulate`],

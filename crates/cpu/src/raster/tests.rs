@@ -111,7 +111,7 @@ fn solid_runs_match_the_general_path() {
     }
 }
 
-/// Random textured-sprite scenes through the fast paths (span sampler, the baseline lanes,
+/// Random textured-sprite scenes through the fast paths (the wide spans, the per-pixel fill,
 /// blend fast paths, threads) and through the general path give the same pixels.
 #[test]
 fn fast_paths_match_the_general_path_on_random_sprites() {
@@ -190,15 +190,15 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
         let mut general = start.clone();
         draw_general(&mut general, state, fvf, &vertices);
         let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
-        // Binned: the wide spans on every level this machine has, and none; then point
-        // after point (the sprites' own fast paths, without bins).
+        // Binned: the wide spans on every level this machine has, and none (every sprite pixel
+        // by pixel); then point after point, pixel by pixel.
         let levels = LanesLevel::available().into_iter().map(|l| (Some(l), true));
         for (lanes, binned) in levels.chain([(None, true), (None, false)]) {
             let mut fast = start.clone();
             let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
             (ctx.spans, ctx.binned) = (lanes, binned);
             if let Some(t) = &mut ctx.textures[0] {
-                t.unpack(lanes.is_some());
+                t.unpack();
             }
             draw_context(&ctx, drawing(&mut fast, &mut Bins::default()));
             let setup = (setup, lanes, binned);

@@ -1,11 +1,14 @@
 //! Texels: the draw's stage textures ([`StageTexture`]) and the texels a sprite's pixels read
-//! (SPEC 4.3, 5.2): texel indices and weights per column ([`Column`]) and per row
-//! ([`TexelRow`]), read directly where they are inside the level and sampled by core
-//! otherwise, a level's texels unpacked once per draw ([`Texel`]), and filtered texel rows kept
-//! from one pixel row to the next ([`TexelRows`]), in [`BASELINE`]'s lanes: one colour's
-//! channels, or one channel of four pixels ([`Planes`]).
+//! (SPEC 4.3, 5.2): a level's planar form for the wide spans, built once per draw and level
+//! when the draw's sprites on it pay for it ([`StageTexture::planar`]); for the per-pixel fill,
+//! texel indices and weights per column ([`Column`]) and per row ([`TexelRow`]), read directly
+//! where they are inside the level and sampled by core otherwise, from a level's texels packed
+//! or unpacked once per draw ([`Texel`]).
 //!
 //! Contract: every texel is core's sampler's, bit for bit.
+
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use pointillist_core::device::MAX_STAGES;
 use pointillist_core::point::{ScreenPoint, sprite_coord, sprite_lod};
@@ -26,26 +29,38 @@ pub(super) struct StageTexture<'a> {
     /// ([`SamplerDesc::needs_lod`]).
     pub(super) fixed: Option<LodSampler<'a>>,
     /// The texels of `fixed`'s level unpacked ([`Quad::color`]) for a draw of sprites big
-    /// enough to bin ([`StageTexture::unpack`]): the sprite fills then read them without
+    /// enough to bin ([`StageTexture::unpack`]): the per-pixel fill then reads them without
     /// unpacking each. Empty otherwise, so small draws never pay for it.
     pub(super) unpacked: Vec<Channels>,
-    /// The same level as planes with its address margin, for the wide spans ([`span`]).
-    pub(super) planar: Option<span::PlanarLevel>,
+    /// Per level of the texture, its planar form for the wide spans; empty for a stage the
+    /// spans do not read (all but the single MODULATE stage's).
+    planar: Box<[Planar]>,
 }
 
 /// The largest level whose texels a draw unpacks once (1 MiB of [`Channels`]).
 const UNPACKED_MAX_TEXELS: usize = 1 << 16;
 
-/// Four pixels, channel-planar: plane `c` (blue, green, red, alpha) holds channel `c` of
-/// pixels 0 to 3, one per lane.
-pub(super) type Planes = [Channels; 4];
+/// The most entries (texels and margin) a level's planar form holds: those of a level of
+/// 2048 x 2048, 80 MiB at 20 bytes an entry, five times the level's own texels. Larger levels
+/// are sampled per pixel, so that a draw's memory stays within a few times its textures'.
+const PLANAR_MAX_ENTRIES: usize = 2050 * 2050;
 
-/// A texel as the sprite fills read it: a D3DCOLOR, or one unpacked already.
+/// One level's planar form ([`span::PlanarLevel`]), built at most once per draw, by the first
+/// sprite that finds it paid for: once the draw's sprites on the level have covered, pixel by
+/// pixel, as many pixels as the form has entries. A level few pixels read is never unpacked
+/// whole, and the unpacking, a few operations an entry, is then a fraction of the per-pixel
+/// work already done.
+#[derive(Default)]
+struct Planar {
+    form: OnceLock<span::PlanarLevel>,
+    /// Pixels filled per pixel on the level while the form was not built.
+    pixels: AtomicU64,
+}
+
+/// A texel as the per-pixel fill reads it: a D3DCOLOR, or one unpacked already.
 pub(super) trait Texel: Copy {
     /// SPEC 1's unpack of the texel ([`Quad::color`]).
     fn unpack(self) -> Channels;
-    /// The planes of four texels (SPEC 1's unpack of each).
-    fn planes(px: [Self; 4]) -> Planes;
 }
 
 impl Texel for u32 {
@@ -53,17 +68,6 @@ impl Texel for u32 {
     fn unpack(self) -> Channels {
         BASELINE.color(self)
     }
-    #[inline(always)]
-    fn planes(px: [u32; 4]) -> Planes {
-        BASELINE.unpack(BASELINE.load_u(&px))
-    }
-}
-
-/// The level a sprite's fills read: its sampler, and its texels packed or unpacked.
-#[derive(Copy, Clone)]
-pub(super) struct LevelTexels<'a, T> {
-    pub(super) sampler: &'a LodSampler<'a>,
-    pub(super) texels: &'a [T],
 }
 
 impl Texel for Channels {
@@ -71,26 +75,37 @@ impl Texel for Channels {
     fn unpack(self) -> Channels {
         self
     }
-    #[inline(always)]
-    fn planes(px: [Channels; 4]) -> Planes {
-        BASELINE.transpose(px)
-    }
 }
 
-/// The sampler's lerp (SPEC 5.2) of four pixels, plane by plane, pixel `i` weighted by lane
-/// `i` of `t`.
-#[inline(always)]
-pub(super) fn lerp_planes(a: Planes, b: Planes, t: Channels) -> Planes {
-    let l = BASELINE;
-    [
-        l.lerp(a[0], b[0], t),
-        l.lerp(a[1], b[1], t),
-        l.lerp(a[2], b[2], t),
-        l.lerp(a[3], b[3], t),
-    ]
+/// The level a sprite's fills read: its stage texture, its sampler, and its texels packed or
+/// unpacked.
+#[derive(Copy, Clone)]
+pub(super) struct LevelTexels<'a, T> {
+    pub(super) stage: &'a StageTexture<'a>,
+    pub(super) sampler: &'a LodSampler<'a>,
+    pub(super) texels: &'a [T],
 }
 
 impl<'a> StageTexture<'a> {
+    /// Stage texture `texture` read through `sampler` from texture coordinate set `set`;
+    /// `spans`: the wide spans read it (one planar slot per level).
+    pub(super) fn new(
+        texture: &'a Texture,
+        sampler: SamplerDesc,
+        set: usize,
+        spans: bool,
+    ) -> StageTexture<'a> {
+        let levels = if spans { texture.levels().len() } else { 0 };
+        StageTexture {
+            texture,
+            sampler,
+            set,
+            fixed: (!sampler.needs_lod()).then(|| texture.at_lod(&sampler, 0.0)),
+            unpacked: Vec::new(),
+            planar: (0..levels).map(|_| Planar::default()).collect(),
+        }
+    }
+
     /// The sampler at the level of detail of a sprite of `size` pixels (SPEC 4.3, 5.2).
     #[inline]
     pub(super) fn sprite_sampler(&self, size: f32) -> LodSampler<'a> {
@@ -101,102 +116,62 @@ impl<'a> StageTexture<'a> {
         self.texture.at_lod(&self.sampler, lod)
     }
 
-    /// Unpacks the texels of the `fixed` level when it has at most [`UNPACKED_MAX_TEXELS`]: by
-    /// texel, and by plane for the wide spans (`spans`).
-    pub(super) fn unpack(&mut self, spans: bool) {
+    /// For a binned draw: unpacks the texels of the `fixed` level when it has at most
+    /// [`UNPACKED_MAX_TEXELS`], by texel, and builds its planar form (its many sprites pay for
+    /// both).
+    pub(super) fn unpack(&mut self) {
         if let Some(f) = self.fixed {
             let texels = &f.level().texels;
             if texels.len() <= UNPACKED_MAX_TEXELS {
                 self.unpacked = texels.iter().map(|&c| BASELINE.color(c)).collect();
-                if spans {
-                    self.planar = Some(span::PlanarLevel::new(f.level(), &self.sampler));
+                if let Some(slot) = self.slot(&f) {
+                    slot.form
+                        .get_or_init(|| span::PlanarLevel::new(f.level(), &self.sampler));
                 }
             }
         }
     }
-}
 
-/// Four consecutive covered columns of a linear-filtered sprite with one MODULATE stage, as
-/// [`filter_row`] reads them.
-#[derive(Copy, Clone)]
-pub(super) struct Group {
-    /// The first texel column each column reads; 0 where the core sampler decides.
-    pub(super) left: [u32; 4],
-    /// The second texel column; 0 where the core sampler decides.
-    pub(super) right: [u32; 4],
-    /// Weights of `right`.
-    pub(super) fx: [f32; 4],
-    /// All four columns exist and read their texels directly.
-    pub(super) direct: bool,
-}
-
-impl Group {
-    pub(super) fn new(cols: &[Column]) -> Group {
-        let column = |i: usize| cols.get(i).filter(|c| c.k >= 0);
-        Group {
-            left: std::array::from_fn(|i| column(i).map_or(0, |c| c.k as u32)),
-            right: std::array::from_fn(|i| column(i).map_or(0, |c| c.k as u32 + 1)),
-            fx: std::array::from_fn(|i| column(i).map_or(0.0, |c| c.fx)),
-            direct: (0..4).all(|i| column(i).is_some()),
+    /// The planar slot of `sampler`'s level; none without slots or when the sampler blends two
+    /// levels.
+    #[inline]
+    fn slot(&self, sampler: &LodSampler) -> Option<&Planar> {
+        if sampler.mip_blend().is_some() {
+            return None;
         }
-    }
-}
-
-/// The horizontal lerps `lerp(t[l][k], t[l][k + 1], fx)` of two texel rows `l` and `l + 1` at
-/// every covered column of a sprite (the first half of SPEC 5.2's bilinear filter), four
-/// columns to a [`Planes`], kept from one pixel row to the next: consecutive pixel rows read the
-/// same or the next texel rows.
-#[derive(Default)]
-pub(super) struct TexelRows {
-    rows: [Vec<Planes>; 2],
-    /// The texel row each of `rows` holds; -1 for none.
-    tags: [i64; 2],
-}
-
-impl TexelRows {
-    /// Forgets the rows: the next sprite has other columns.
-    pub(super) fn reset(&mut self) {
-        self.tags = [-1; 2];
+        // The level's index in the texture's levels, from its address.
+        let (first, level) = (self.texture.levels().as_ptr(), sampler.level());
+        let index =
+            (std::ptr::from_ref(level) as usize).wrapping_sub(first as usize) / size_of::<Level>();
+        self.planar.get(index)
     }
 
-    /// Rows `l` and `l + 1` of the `width`-texel rows `texels`, filtered at `groups`; both
-    /// rows are inside the level, and so are `k` and `k + 1` of every column with `k >= 0`.
-    pub(super) fn pair<T: Texel>(
-        &mut self,
-        texels: &[T],
-        width: usize,
-        groups: &[Group],
-        l: i64,
-    ) -> [&[Planes]; 2] {
-        if self.tags[0] != l {
-            if self.tags[1] == l {
-                self.rows.swap(0, 1);
-                self.tags.swap(0, 1);
-            } else {
-                filter_row(&mut self.rows[0], &texels[l as usize * width..], groups);
-                self.tags[0] = l;
-            }
-        }
-        if self.tags[1] != l + 1 {
-            filter_row(
-                &mut self.rows[1],
-                &texels[(l as usize + 1) * width..],
-                groups,
-            );
-            self.tags[1] = l + 1;
-        }
-        [&self.rows[0], &self.rows[1]]
+    /// The planar form of `sampler`'s level, if built.
+    #[inline]
+    pub(super) fn built(&self, sampler: &LodSampler) -> Option<&span::PlanarLevel> {
+        self.slot(sampler)?.form.get()
     }
-}
 
-/// One texel row's horizontal lerps at `groups` (meaningless where the core sampler decides).
-fn filter_row<T: Texel>(out: &mut Vec<Planes>, row: &[T], groups: &[Group]) {
-    out.clear();
-    out.extend(groups.iter().map(|g| {
-        let left = T::planes(g.left.map(|k| row[k as usize]));
-        let right = T::planes(g.right.map(|k| row[k as usize]));
-        lerp_planes(left, right, BASELINE.load(&g.fx))
-    }));
+    /// The planar form of `sampler`'s level for a sprite that covers `pixels` pixels: built
+    /// once the draw's sprites on the level pay for it ([`Planar`]); `None` until then, for a
+    /// level of more than [`PLANAR_MAX_ENTRIES`], and where the sampler blends two levels.
+    pub(super) fn planar(&self, sampler: &LodSampler, pixels: u64) -> Option<&span::PlanarLevel> {
+        let slot = self.slot(sampler)?;
+        if let Some(form) = slot.form.get() {
+            return Some(form);
+        }
+        let level = sampler.level();
+        let entries = (level.width as usize + 2) * (level.height as usize + 2);
+        if entries > PLANAR_MAX_ENTRIES
+            || slot.pixels.fetch_add(pixels, Ordering::Relaxed) + pixels < entries as u64
+        {
+            return None;
+        }
+        Some(
+            slot.form
+                .get_or_init(|| span::PlanarLevel::new(level, &self.sampler)),
+        )
+    }
 }
 
 /// One covered column of a sprite with one MODULATE stage.
@@ -261,14 +236,12 @@ impl Column {
 #[derive(Copy, Clone)]
 pub(super) struct TexelRow<'l, T> {
     /// Sprite v.
-    pub(super) v: f32,
-    /// The first texel row read.
-    pub(super) l: i64,
+    v: f32,
     /// Weight of the second texel row (linear filtering).
-    pub(super) fy: f32,
-    /// The level's texels from row `l` on, or nothing when the rows read are not inside the
-    /// level (or the sampler blends two levels) and the sampler decides.
-    pub(super) texels: &'l [T],
+    fy: f32,
+    /// The level's texels from the first row read on, or nothing when the rows read are not
+    /// inside the level (or the sampler blends two levels) and the sampler decides.
+    texels: &'l [T],
 }
 
 impl<'l, T: Texel> TexelRow<'l, T> {
@@ -289,7 +262,7 @@ impl<'l, T: Texel> TexelRow<'l, T> {
         } else {
             &[]
         };
-        TexelRow { v, l, fy, texels }
+        TexelRow { v, fy, texels }
     }
 
     /// The texel of the pixel at column `c` (SPEC 5.2): read from the level (`width` texels
