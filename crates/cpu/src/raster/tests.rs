@@ -212,3 +212,83 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
         }
     }
 }
+
+/// Sprites whose levels get their planar form during the draw (SPEC 4.3, 5.2): mip-mapped
+/// samplers (a level per size, or a blend of two, per pixel), a level over 64K texels, and
+/// draws small enough to run point after point. On every level this machine has, and pixel
+/// by pixel alone, they give the general path's pixels, and the spans had planar forms to read.
+#[test]
+fn spec_5_2_spans_take_mipmapped_large_and_sequential_sprites() {
+    use TextureFilter::{Linear, None as NoFilter, Point};
+    let mut rng = Rng(0x5EC5_F01D_0000_0016);
+    // (texture size, mip filter, points, sprite sizes, binned)
+    let scenes = [
+        ((64, 64), Point, 300, (2.0, 14.0), false),
+        ((64, 64), Point, 3000, (3.0, 40.0), true),
+        // A blend of two levels below 64 pixels (per pixel), level 0 above (the spans).
+        ((64, 64), Linear, 300, (2.0, 90.0), true),
+        ((16, 16), NoFilter, 300, (2.0, 14.0), false),
+        ((320, 256), NoFilter, 600, (30.0, 90.0), true),
+    ];
+    for (scene, &((tw, th), mip, count, (small, big), binned)) in scenes.iter().enumerate() {
+        let (w, h) = (96, 80);
+        let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+        let texels = (0..tw * th).map(|_| rng.next()).collect();
+        let texture = Arc::new(Texture::from_argb(tw, th, texels).unwrap());
+        device.set_texture(0, Some(texture)).unwrap();
+        let set = |d: &mut crate::CpuDevice, s: SamplerState, v: u32| {
+            d.set_sampler_state(0, s, v).unwrap()
+        };
+        let filter = rng.pick(&[Point, Linear]);
+        set(&mut device, SamplerState::MAGFILTER, filter as u32);
+        set(&mut device, SamplerState::MINFILTER, filter as u32);
+        set(&mut device, SamplerState::MIPFILTER, mip as u32);
+        use TextureAddress::{Border, Clamp, Mirror, Wrap};
+        let address = rng.pick(&[Wrap, Clamp, Border, Mirror]);
+        set(&mut device, SamplerState::ADDRESSU, address as u32);
+        set(&mut device, SamplerState::ADDRESSV, address as u32);
+        set(&mut device, SamplerState::BORDERCOLOR, rng.next());
+        device.set_render_state(RenderState::POINTSPRITEENABLE, true);
+        device.set_render_state(RenderState::ALPHABLENDENABLE, true);
+        device.set_render_state(RenderState::SRCBLEND, Blend::SrcAlpha);
+        device.set_render_state(RenderState::DESTBLEND, Blend::InvSrcAlpha);
+        device.set_render_state(RenderState::ZENABLE, scene % 2 == 0);
+        let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+        let mut vertices = Vec::new();
+        for _ in 0..count {
+            let words = [
+                rng.range(-20.0, 116.0).to_bits(),
+                rng.range(-20.0, 100.0).to_bits(),
+                rng.range(0.0, 1.0).to_bits(),
+                1.0f32.to_bits(),
+                rng.range(small, big).to_bits(),
+                rng.next(),
+            ];
+            vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+        }
+        let state = device.state();
+        let mut start = RenderTarget::new(w, h, 0, 1.0);
+        start.color.iter_mut().for_each(|c| *c = rng.next());
+        let mut general = start.clone();
+        draw_general(&mut general, state, fvf, &vertices);
+        let levels = LanesLevel::available().into_iter().map(Some);
+        for lanes in levels.chain([None]) {
+            let mut fast = start.clone();
+            let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
+            assert_eq!(ctx.binned, binned, "scene {scene}");
+            ctx.spans = lanes;
+            draw_context(&ctx, drawing(&mut fast, &mut Bins::default()));
+            let setup = (scene, filter, address, lanes);
+            for (k, (a, b)) in fast.color.iter().zip(&general.color).enumerate() {
+                assert_eq!(a, b, "{setup:?}: pixel {k}: {a:08x} vs {b:08x}");
+            }
+            assert_eq!(fast.depth, general.depth, "{setup:?}");
+            let built = ctx.textures[0].as_ref().unwrap().built_levels();
+            assert_eq!(
+                built > 0,
+                lanes.is_some(),
+                "{setup:?}: {built} planar levels"
+            );
+        }
+    }
+}

@@ -146,6 +146,15 @@ impl<'a> StageTexture<'a> {
         self.planar.get(index)
     }
 
+    /// How many levels have their planar form.
+    #[cfg(test)]
+    pub(super) fn built_levels(&self) -> usize {
+        self.planar
+            .iter()
+            .filter(|p| p.form.get().is_some())
+            .count()
+    }
+
     /// The planar form of `sampler`'s level, if built.
     #[inline]
     pub(super) fn built(&self, sampler: &LodSampler) -> Option<&span::PlanarLevel> {
