@@ -446,7 +446,6 @@ fn fill_down<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const 
     } = target;
     let n = L::N;
     let len = if REACH == PART { width } else { n };
-    let m = shade.m;
     let tests = &ctx.pixel;
     // Every row's pixels lie inside `color` (and `depth`, when it has any): the row `k` of `y`
     // starts `k * pitch` in, and `len` from there is inside for the last row, so for all.
@@ -454,65 +453,150 @@ fn fill_down<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const 
     assert!(rows > 0 && (rows - 1) * pitch + len <= color.len());
     let with_depth = !depth.is_empty();
     assert!(!with_depth || depth.len() == color.len());
-    let (color, depth) = (color.as_mut_ptr(), depth.as_mut_ptr());
-    // The texel rows the previous pixel row read: `row` and `row + 1`, filtered. No plane row
-    // is `usize::MAX - 1` or its next.
-    let zero = l.splat(0.0);
-    let (mut top, mut bottom, mut tag) = ([zero; 4], [zero; 4], usize::MAX - 1);
-    let mut point = l.splat_u(0);
-    for k in 0..rows {
-        let (row, weight) = (y[k] as usize, fy[k]);
-        if tag != row {
-            if LINEAR {
-                top = if tag + 1 == row {
-                    bottom
-                } else {
-                    filter(l, texels, row, columns)
-                };
-                bottom = filter(l, texels, row + 1, columns);
-            } else {
-                point = texels_at(l, texels, row, columns);
-                if shade.opaque {
-                    point = l.write_masked(0xFF00_0000, l.splat_u(u32::MAX), point);
-                }
-            }
-            tag = row;
+    let pixels_at = Pixels {
+        color: color.as_mut_ptr(),
+        depth: with_depth.then_some(depth.as_mut_ptr()),
+        pitch,
+        len,
+        width,
+    };
+    let read = Read {
+        l,
+        texels,
+        columns,
+        opaque: shade.opaque,
+    };
+    // What row `k` reads; those of the next row are read while this row is shaded, so that
+    // their loads and horizontal lerps do not wait at the head of each row's chain of
+    // arithmetic.
+    if LINEAR {
+        let mut now = read.filtered(y[0] as usize);
+        for k in 0..rows {
+            let (row, after) = (y[k] as usize, y[(k + 1).min(rows - 1)] as usize);
+            let then = read.advance(row, after, now);
+            let src = shaded(l, shade, now, fy[k]);
+            // SAFETY: row `k` is below `rows`.
+            unsafe { pixels::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k)) };
+            now = then;
         }
-        let src = if LINEAR {
-            let weight = l.splat(weight);
-            let texel = channels!(|c| l.lerp(top[c], bottom[c], weight));
-            let shaded = [
-                l.mul(texel[0], m[0]),
-                l.mul(texel[1], m[1]),
-                l.mul(texel[2], m[2]),
-                match shade.alpha {
-                    ModulateAlpha::Texture => texel[3],
-                    ModulateAlpha::Modulate => l.mul(texel[3], m[3]),
-                    ModulateAlpha::Diffuse => m[3],
-                },
-            ];
-            // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
-            l.quantize(shaded)
-        } else {
-            l.modulate(point, shade.modulator)
-        };
-        // SAFETY: `k * pitch + len <= (rows - 1) * pitch + len <= color.len()` (asserted
-        // above), and the depths, when there are any, are as long as the colours; a span lies
-        // within its row of the band, so the slices of different rows do not overlap, and
-        // nothing else reaches the pixels while they live.
-        let span = unsafe {
-            Row {
-                color: std::slice::from_raw_parts_mut(color.add(k * pitch), len),
-                depth: if with_depth {
-                    std::slice::from_raw_parts_mut(depth.add(k * pitch), len)
-                } else {
-                    &mut []
-                },
-                width,
+    } else {
+        // A point-sampled row's chain is short: its texels are read when its plane row
+        // changes.
+        let (mut point, mut tag) = (l.splat_u(0), usize::MAX);
+        for (k, &row) in y[..rows].iter().enumerate() {
+            if row as usize != tag {
+                (point, tag) = (read.point(row as usize), row as usize);
             }
-        };
-        pixels::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, span);
+            let src = l.modulate(point, shade.modulator);
+            // SAFETY: row `k` is below `rows`.
+            unsafe { pixels::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k)) };
+        }
     }
+}
+
+/// The pixels of a span's rows: `len` from `color` (and `depth`, with a depth test) a row,
+/// rows `pitch` apart, `width` of them the span's.
+struct Pixels {
+    color: *mut u32,
+    depth: Option<*mut f32>,
+    pitch: usize,
+    len: usize,
+    width: usize,
+}
+
+impl Pixels {
+    /// Row `k`'s pixels.
+    ///
+    /// # Safety
+    /// `k` is below the rows [`fill_down`] checked its window holds, and no other row's
+    /// pixels are alive.
+    #[inline(always)]
+    unsafe fn row<'a>(&self, k: usize) -> Row<'a> {
+        // SAFETY: `k * pitch + len <= (rows - 1) * pitch + len <= color.len()` ([`fill_down`]
+        // asserts it), and the depths, when there are any, are as long as the colours; a span
+        // lies within its row of the band, so the slices of different rows do not overlap.
+        unsafe {
+            Row {
+                color: std::slice::from_raw_parts_mut(self.color.add(k * self.pitch), self.len),
+                depth: match self.depth {
+                    Some(depth) => {
+                        std::slice::from_raw_parts_mut(depth.add(k * self.pitch), self.len)
+                    }
+                    None => &mut [],
+                },
+                width: self.width,
+            }
+        }
+    }
+}
+
+/// How a span's pixel rows read their texels: from `texels` at `columns`.
+struct Read<'a, L: Lanes> {
+    l: L,
+    texels: &'a PlanarLevel,
+    columns: &'a Columns<L>,
+    /// Point sampling takes the texel's alpha as 255 ([`Shade::opaque`]).
+    opaque: bool,
+}
+
+impl<L: Lanes> Read<'_, L> {
+    /// Plane rows `row` and `row + 1`, filtered.
+    #[inline(always)]
+    fn filtered(&self, row: usize) -> Filtered<L> {
+        let top = filter(self.l, self.texels, row, self.columns);
+        (top, filter(self.l, self.texels, row + 1, self.columns))
+    }
+
+    /// What the pixel row after one reading `now` from plane row `row` reads, from plane row
+    /// `next`: the same, the bottom row kept as the top one, or both read anew.
+    #[inline(always)]
+    fn advance(&self, row: usize, next: usize, now: Filtered<L>) -> Filtered<L> {
+        if next == row {
+            return now;
+        }
+        let top = if next == row + 1 {
+            now.1
+        } else {
+            filter(self.l, self.texels, next, self.columns)
+        };
+        (top, filter(self.l, self.texels, next + 1, self.columns))
+    }
+
+    /// The packed texels of plane row `row`, opaque where the stage takes the diffuse alpha.
+    #[inline(always)]
+    fn point(&self, row: usize) -> L::U {
+        let l = self.l;
+        let point = texels_at(l, self.texels, row, self.columns);
+        if self.opaque {
+            l.write_masked(0xFF00_0000, l.splat_u(u32::MAX), point)
+        } else {
+            point
+        }
+    }
+}
+
+/// Two plane rows filtered at a span's columns: the rows a linear-filtered pixel row lerps.
+type Filtered<L> = ([<L as Lanes>::F; 4], [<L as Lanes>::F; 4]);
+
+/// The quantized colour (SPEC 5.1, 1) of a linear-filtered pixel row of a sprite `shade`
+/// reading the filtered plane rows `(top, bottom)`, the bottom one weighted `weight`.
+#[inline(always)]
+fn shaded<L: Lanes>(l: L, shade: &Shade<L>, (top, bottom): Filtered<L>, weight: f32) -> L::U {
+    let m = shade.m;
+    let weight = l.splat(weight);
+    let texel = channels!(|c| l.lerp(top[c], bottom[c], weight));
+    let shaded = [
+        l.mul(texel[0], m[0]),
+        l.mul(texel[1], m[1]),
+        l.mul(texel[2], m[2]),
+        match shade.alpha {
+            ModulateAlpha::Texture => texel[3],
+            ModulateAlpha::Modulate => l.mul(texel[3], m[3]),
+            ModulateAlpha::Diffuse => m[3],
+        },
+    ];
+    // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
+    l.quantize(shaded)
 }
 
 /// One span of a sprite's columns: the plane entries of their first texels (the second is the
