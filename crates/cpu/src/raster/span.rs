@@ -346,10 +346,17 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
         ModulateAlpha::Modulate => (false, p.diffuse),
         ModulateAlpha::Diffuse => (true, p.diffuse),
     };
-    let modulator = l.splat_u(modulator);
-    let tests = &ctx.pixel;
+    let shade = Shade {
+        m,
+        alpha,
+        opaque,
+        modulator: l.splat_u(modulator),
+        z: p.z,
+    };
     let pitch = band.width;
     let origin = (rows.start - band.y0) as usize * pitch + p.rect.x0 as usize;
+    let (y, fy) = (&y[..rows.len()], &fy[..rows.len()]);
+    let depth = ctx.pixel.depth.is_some();
     let spans = x
         .chunks_exact(n)
         .zip(fx.chunks_exact(n))
@@ -365,73 +372,232 @@ fn fill_with<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
         let width = (cols - first).min(n);
         // A partial span whose row has N pixels from its first: loaded and stored whole.
         let whole_window = pitch - (p.rect.x0 as usize + first) >= n;
-        // The texel rows the previous pixel row read: `row` and `row + 1`, filtered.
-        let zero = l.splat(0.0);
-        let (mut top, mut bottom, mut tag) = ([zero; 4], [zero; 4], None);
-        let mut point = l.splat_u(0);
-        for (k, (&row, &weight)) in y.iter().zip(fy.iter()).take(rows.len()).enumerate() {
-            let row = row as usize;
-            if tag != Some(row) {
-                if LINEAR {
-                    top = if tag.is_some_and(|t| t + 1 == row) {
-                        bottom
-                    } else {
-                        filter(l, texels, row, &columns)
-                    };
-                    bottom = filter(l, texels, row + 1, &columns);
-                } else {
-                    point = texels_at(l, texels, row, &columns);
-                    if opaque {
-                        point = l.write_masked(0xFF00_0000, l.splat_u(u32::MAX), point);
-                    }
-                }
-                tag = Some(row);
-            }
-            let src = if LINEAR {
-                let weight = l.splat(weight);
-                let texel = channels!(|c| l.lerp(top[c], bottom[c], weight));
-                let shaded = [
-                    l.mul(texel[0], m[0]),
-                    l.mul(texel[1], m[1]),
-                    l.mul(texel[2], m[2]),
-                    match alpha {
-                        ModulateAlpha::Texture => texel[3],
-                        ModulateAlpha::Modulate => l.mul(texel[3], m[3]),
-                        ModulateAlpha::Diffuse => m[3],
-                    },
-                ];
-                // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
-                l.quantize(shaded)
+        let len = if width == n || whole_window { n } else { width };
+        // The span's pixels from its first row's to the end of its last row's.
+        let at = origin + first;
+        let end = at + (y.len() - 1) * pitch + len;
+        let target = Target {
+            color: &mut band.color[at..end],
+            depth: if depth {
+                &mut band.depth[at..end]
             } else {
-                l.modulate(point, modulator)
-            };
-            let at = origin + k * pitch + first;
-            // Sliced to a length the compiler knows where it can, so that the loads and stores
-            // need no checks of their own; the depths only when the test reads them.
-            let len = match width {
-                _ if width == n || whole_window => n,
-                _ => width,
-            };
-            let c = &mut band.color[at..at + len];
-            let z = match tests.depth {
-                Some(_) => &mut band.depth[at..at + len],
-                None => &mut [][..],
-            };
-            let span = Row {
-                color: c,
-                depth: z,
-                width,
-            };
-            if width == n {
-                pixels::<L, B, WHOLE, PLAIN>(l, tests, b, src, p.z, span);
-            } else if whole_window {
-                pixels::<L, B, WINDOW, PLAIN>(l, tests, b, src, p.z, span);
-            } else {
-                pixels::<L, B, PART, PLAIN>(l, tests, b, src, p.z, span);
-            }
+                &mut [][..]
+            },
+            pitch,
+            width,
+        };
+        let down = Down { y, fy, target };
+        let draw = SpanDraw { ctx, b };
+        if width == n {
+            fill_down::<L, B, LINEAR, PLAIN, WHOLE>(l, draw, &shade, texels, &columns, down);
+        } else if whole_window {
+            fill_down::<L, B, LINEAR, PLAIN, WINDOW>(l, draw, &shade, texels, &columns, down);
+        } else {
+            fill_down::<L, B, LINEAR, PLAIN, PART>(l, draw, &shade, texels, &columns, down);
         }
     }
     true
+}
+
+/// What a sprite's pixels compute from their texels (SPEC 5.1), once a sprite: the diffuse
+/// colour's channels (`m`) and the stage's alpha for linear filtering, the packed modulator
+/// for point sampling ([`Lanes::modulate`]; `opaque`: the texel's alpha is taken as 255).
+struct Shade<L: Lanes> {
+    m: [L::F; 4],
+    alpha: ModulateAlpha,
+    opaque: bool,
+    modulator: L::U,
+    z: f32,
+}
+
+/// A span's pixels in the band: from its first row's first pixel to its last row's end, rows
+/// `pitch` apart, `width` of them the span's; the depths likewise, or none without a depth
+/// test.
+struct Target<'a> {
+    color: &'a mut [u32],
+    depth: &'a mut [f32],
+    pitch: usize,
+    width: usize,
+}
+
+/// A span of columns down its rows: per row the plane row of its first texel row and the
+/// weight of the second, and the pixels.
+struct Down<'a> {
+    y: &'a [u32],
+    fy: &'a [f32],
+    target: Target<'a>,
+}
+
+/// One span of columns of a sprite, row after row: the texel rows read filtered once and kept
+/// while the next rows read them, each row's pixels reached as `REACH` says ([`pixels`]).
+#[inline(always)]
+fn fill_down<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const REACH: u8>(
+    l: L,
+    SpanDraw { ctx, b }: SpanDraw<B>,
+    shade: &Shade<L>,
+    texels: &PlanarLevel,
+    columns: &Columns<L>,
+    Down { y, fy, target }: Down,
+) {
+    let Target {
+        color,
+        depth,
+        pitch,
+        width,
+    } = target;
+    let n = L::N;
+    let len = if REACH == PART { width } else { n };
+    let tests = &ctx.pixel;
+    // Every row's pixels lie inside `color` (and `depth`, when it has any): the row `k` of `y`
+    // starts `k * pitch` in, and `len` from there is inside for the last row, so for all.
+    let rows = y.len().min(fy.len());
+    assert!(rows > 0 && (rows - 1) * pitch + len <= color.len());
+    let with_depth = !depth.is_empty();
+    assert!(!with_depth || depth.len() == color.len());
+    let pixels_at = Pixels {
+        color: color.as_mut_ptr(),
+        depth: with_depth.then_some(depth.as_mut_ptr()),
+        pitch,
+        len,
+        width,
+    };
+    let read = Read {
+        l,
+        texels,
+        columns,
+        opaque: shade.opaque,
+    };
+    // What row `k` reads; those of the next row are read while this row is shaded, so that
+    // their loads and horizontal lerps do not wait at the head of each row's chain of
+    // arithmetic.
+    if LINEAR {
+        let mut now = read.filtered(y[0] as usize);
+        for k in 0..rows {
+            let (row, after) = (y[k] as usize, y[(k + 1).min(rows - 1)] as usize);
+            let then = read.advance(row, after, now);
+            let src = shaded(l, shade, now, fy[k]);
+            // SAFETY: row `k` is below `rows`.
+            unsafe { pixels::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k)) };
+            now = then;
+        }
+    } else {
+        // A point-sampled row's chain is short: its texels are read when its plane row
+        // changes.
+        let (mut point, mut tag) = (l.splat_u(0), usize::MAX);
+        for (k, &row) in y[..rows].iter().enumerate() {
+            if row as usize != tag {
+                (point, tag) = (read.point(row as usize), row as usize);
+            }
+            let src = l.modulate(point, shade.modulator);
+            // SAFETY: row `k` is below `rows`.
+            unsafe { pixels::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k)) };
+        }
+    }
+}
+
+/// The pixels of a span's rows: `len` from `color` (and `depth`, with a depth test) a row,
+/// rows `pitch` apart, `width` of them the span's.
+struct Pixels {
+    color: *mut u32,
+    depth: Option<*mut f32>,
+    pitch: usize,
+    len: usize,
+    width: usize,
+}
+
+impl Pixels {
+    /// Row `k`'s pixels.
+    ///
+    /// # Safety
+    /// `k` is below the rows [`fill_down`] checked its window holds, and no other row's
+    /// pixels are alive.
+    #[inline(always)]
+    unsafe fn row<'a>(&self, k: usize) -> Row<'a> {
+        // SAFETY: `k * pitch + len <= (rows - 1) * pitch + len <= color.len()` ([`fill_down`]
+        // asserts it), and the depths, when there are any, are as long as the colours; a span
+        // lies within its row of the band, so the slices of different rows do not overlap.
+        unsafe {
+            Row {
+                color: std::slice::from_raw_parts_mut(self.color.add(k * self.pitch), self.len),
+                depth: match self.depth {
+                    Some(depth) => {
+                        std::slice::from_raw_parts_mut(depth.add(k * self.pitch), self.len)
+                    }
+                    None => &mut [],
+                },
+                width: self.width,
+            }
+        }
+    }
+}
+
+/// How a span's pixel rows read their texels: from `texels` at `columns`.
+struct Read<'a, L: Lanes> {
+    l: L,
+    texels: &'a PlanarLevel,
+    columns: &'a Columns<L>,
+    /// Point sampling takes the texel's alpha as 255 ([`Shade::opaque`]).
+    opaque: bool,
+}
+
+impl<L: Lanes> Read<'_, L> {
+    /// Plane rows `row` and `row + 1`, filtered.
+    #[inline(always)]
+    fn filtered(&self, row: usize) -> Filtered<L> {
+        let top = filter(self.l, self.texels, row, self.columns);
+        (top, filter(self.l, self.texels, row + 1, self.columns))
+    }
+
+    /// What the pixel row after one reading `now` from plane row `row` reads, from plane row
+    /// `next`: the same, the bottom row kept as the top one, or both read anew.
+    #[inline(always)]
+    fn advance(&self, row: usize, next: usize, now: Filtered<L>) -> Filtered<L> {
+        if next == row {
+            return now;
+        }
+        let top = if next == row + 1 {
+            now.1
+        } else {
+            filter(self.l, self.texels, next, self.columns)
+        };
+        (top, filter(self.l, self.texels, next + 1, self.columns))
+    }
+
+    /// The packed texels of plane row `row`, opaque where the stage takes the diffuse alpha.
+    #[inline(always)]
+    fn point(&self, row: usize) -> L::U {
+        let l = self.l;
+        let point = texels_at(l, self.texels, row, self.columns);
+        if self.opaque {
+            l.write_masked(0xFF00_0000, l.splat_u(u32::MAX), point)
+        } else {
+            point
+        }
+    }
+}
+
+/// Two plane rows filtered at a span's columns: the rows a linear-filtered pixel row lerps.
+type Filtered<L> = ([<L as Lanes>::F; 4], [<L as Lanes>::F; 4]);
+
+/// The quantized colour (SPEC 5.1, 1) of a linear-filtered pixel row of a sprite `shade`
+/// reading the filtered plane rows `(top, bottom)`, the bottom one weighted `weight`.
+#[inline(always)]
+fn shaded<L: Lanes>(l: L, shade: &Shade<L>, (top, bottom): Filtered<L>, weight: f32) -> L::U {
+    let m = shade.m;
+    let weight = l.splat(weight);
+    let texel = channels!(|c| l.lerp(top[c], bottom[c], weight));
+    let shaded = [
+        l.mul(texel[0], m[0]),
+        l.mul(texel[1], m[1]),
+        l.mul(texel[2], m[2]),
+        match shade.alpha {
+            ModulateAlpha::Texture => texel[3],
+            ModulateAlpha::Modulate => l.mul(texel[3], m[3]),
+            ModulateAlpha::Diffuse => m[3],
+        },
+    ];
+    // Products of unpacked bytes and their lerps: within `round_unit`'s domain.
+    l.quantize(shaded)
 }
 
 /// One span of a sprite's columns: the plane entries of their first texels (the second is the
