@@ -27,6 +27,69 @@ fn drawing<'t>(target: &'t mut RenderTarget, bins: &'t mut Bins) -> DrawTarget<'
     }
 }
 
+/// The random sprite draws' target size.
+const SPRITES_TARGET: (u32, u32) = (96, 80);
+
+/// A device drawing point sprites with one texture of `tw x th` random texels, a random filter
+/// (point or linear), the mip filter `mip` picks, and a random address mode and border colour;
+/// with the filter, mip filter and address mode it set.
+fn sprite_device(
+    rng: &mut Rng,
+    (tw, th): (u32, u32),
+    mip: impl FnOnce(&mut Rng) -> TextureFilter,
+) -> (
+    crate::CpuDevice,
+    TextureFilter,
+    TextureFilter,
+    TextureAddress,
+) {
+    let (w, h) = SPRITES_TARGET;
+    let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
+    let texels = (0..tw * th).map(|_| rng.next()).collect();
+    let texture = Arc::new(Texture::from_argb(tw, th, texels).unwrap());
+    device.set_texture(0, Some(texture)).unwrap();
+    let set =
+        |d: &mut crate::CpuDevice, s: SamplerState, v: u32| d.set_sampler_state(0, s, v).unwrap();
+    let filter = rng.pick(&[TextureFilter::Point, TextureFilter::Linear]);
+    set(&mut device, SamplerState::MAGFILTER, filter as u32);
+    set(&mut device, SamplerState::MINFILTER, filter as u32);
+    let mip = mip(rng);
+    set(&mut device, SamplerState::MIPFILTER, mip as u32);
+    use TextureAddress::{Border, Clamp, Mirror, Wrap};
+    let address = rng.pick(&[Wrap, Clamp, Border, Mirror]);
+    set(&mut device, SamplerState::ADDRESSU, address as u32);
+    set(&mut device, SamplerState::ADDRESSV, address as u32);
+    set(&mut device, SamplerState::BORDERCOLOR, rng.next());
+    device.set_render_state(RenderState::POINTSPRITEENABLE, true);
+    (device, filter, mip, address)
+}
+
+/// `count` pre-transformed points with random positions around the target, depths, diffuse
+/// colours and sizes in `small..big`, and their FVF.
+fn random_sprites(rng: &mut Rng, count: usize, (small, big): (f32, f32)) -> (Fvf, Vec<u8>) {
+    let mut vertices = Vec::new();
+    for _ in 0..count {
+        let words = [
+            rng.range(-20.0, 116.0).to_bits(),
+            rng.range(-20.0, 100.0).to_bits(),
+            rng.range(0.0, 1.0).to_bits(),
+            1.0f32.to_bits(),
+            rng.range(small, big).to_bits(),
+            rng.next(),
+        ];
+        vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+    }
+    (Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0), vertices)
+}
+
+/// A target of random colours, depth 1.
+fn random_target(rng: &mut Rng) -> RenderTarget {
+    let (w, h) = SPRITES_TARGET;
+    let mut t = RenderTarget::new(w, h, 0, 1.0);
+    t.color.iter_mut().for_each(|c| *c = rng.next());
+    t
+}
+
 /// The general path: the core cascade per pixel and the core blender, one point after
 /// another on the calling thread.
 fn draw_general(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertices: &[u8]) {
@@ -117,26 +180,11 @@ fn solid_runs_match_the_general_path() {
 fn fast_paths_match_the_general_path_on_random_sprites() {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     for scene in 0..24 {
-        let (w, h) = (96, 80);
-        let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
         let (tw, th) = rng.pick(&[(8, 8), (5, 3), (16, 4), (1, 1), (64, 64)]);
-        let texels = (0..tw * th).map(|_| rng.next()).collect();
-        let texture = Arc::new(Texture::from_argb(tw, th, texels).unwrap());
-        device.set_texture(0, Some(texture)).unwrap();
-        let set = |d: &mut crate::CpuDevice, s: SamplerState, v: u32| {
-            d.set_sampler_state(0, s, v).unwrap()
-        };
-        use TextureFilter::{Linear, None as NoFilter, Point};
-        let filter = rng.pick(&[Point, Linear]);
-        set(&mut device, SamplerState::MAGFILTER, filter as u32);
-        set(&mut device, SamplerState::MINFILTER, filter as u32);
-        let mip = rng.pick(&[NoFilter, Point, Linear]);
-        set(&mut device, SamplerState::MIPFILTER, mip as u32);
-        use TextureAddress::{Border, Clamp, Mirror, Wrap};
-        let address = rng.pick(&[Wrap, Clamp, Border, Mirror]);
-        set(&mut device, SamplerState::ADDRESSU, address as u32);
-        set(&mut device, SamplerState::ADDRESSV, address as u32);
-        set(&mut device, SamplerState::BORDERCOLOR, rng.next());
+        let (mut device, filter, mip, address) = sprite_device(&mut rng, (tw, th), |rng| {
+            use TextureFilter::{Linear, None as NoFilter, Point};
+            rng.pick(&[NoFilter, Point, Linear])
+        });
         // Texture alpha, modulated alpha, diffuse alpha (twice).
         let alpha_op = rng.pick(&[
             TextureOp::SelectArg1,
@@ -147,7 +195,6 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
         device
             .set_texture_stage_state(0, TextureStageState::ALPHAOP, alpha_op)
             .unwrap();
-        device.set_render_state(RenderState::POINTSPRITEENABLE, true);
         let blend = rng.pick(&[
             None,
             Some((Blend::One, Blend::One)),
@@ -167,26 +214,9 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
             device.set_render_state(RenderState::ALPHAFUNC, Cmp::Greater);
         }
         let count = if scene % 2 == 0 { 3000 } else { 200 };
-        let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
-        let mut vertices = Vec::new();
-        for _ in 0..count {
-            let words = [
-                rng.range(-20.0, 116.0).to_bits(),
-                rng.range(-20.0, 100.0).to_bits(),
-                rng.range(0.0, 1.0).to_bits(),
-                1.0f32.to_bits(),
-                rng.range(0.5, 40.0).to_bits(),
-                rng.next(),
-            ];
-            vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
-        }
+        let (fvf, vertices) = random_sprites(&mut rng, count, (0.5, 40.0));
         let state = device.state();
-        let clear = |rng: &mut Rng| {
-            let mut t = RenderTarget::new(w, h, 0, 1.0);
-            t.color.iter_mut().for_each(|c| *c = rng.next());
-            t
-        };
-        let start = clear(&mut rng);
+        let start = random_target(&mut rng);
         let mut general = start.clone();
         draw_general(&mut general, state, fvf, &vertices);
         let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
@@ -231,44 +261,14 @@ fn spec_5_2_spans_take_mipmapped_large_and_sequential_sprites() {
         ((320, 256), NoFilter, 600, (30.0, 90.0), true),
     ];
     for (scene, &((tw, th), mip, count, (small, big), binned)) in scenes.iter().enumerate() {
-        let (w, h) = (96, 80);
-        let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
-        let texels = (0..tw * th).map(|_| rng.next()).collect();
-        let texture = Arc::new(Texture::from_argb(tw, th, texels).unwrap());
-        device.set_texture(0, Some(texture)).unwrap();
-        let set = |d: &mut crate::CpuDevice, s: SamplerState, v: u32| {
-            d.set_sampler_state(0, s, v).unwrap()
-        };
-        let filter = rng.pick(&[Point, Linear]);
-        set(&mut device, SamplerState::MAGFILTER, filter as u32);
-        set(&mut device, SamplerState::MINFILTER, filter as u32);
-        set(&mut device, SamplerState::MIPFILTER, mip as u32);
-        use TextureAddress::{Border, Clamp, Mirror, Wrap};
-        let address = rng.pick(&[Wrap, Clamp, Border, Mirror]);
-        set(&mut device, SamplerState::ADDRESSU, address as u32);
-        set(&mut device, SamplerState::ADDRESSV, address as u32);
-        set(&mut device, SamplerState::BORDERCOLOR, rng.next());
-        device.set_render_state(RenderState::POINTSPRITEENABLE, true);
+        let (mut device, filter, _, address) = sprite_device(&mut rng, (tw, th), |_| mip);
         device.set_render_state(RenderState::ALPHABLENDENABLE, true);
         device.set_render_state(RenderState::SRCBLEND, Blend::SrcAlpha);
         device.set_render_state(RenderState::DESTBLEND, Blend::InvSrcAlpha);
         device.set_render_state(RenderState::ZENABLE, scene % 2 == 0);
-        let fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
-        let mut vertices = Vec::new();
-        for _ in 0..count {
-            let words = [
-                rng.range(-20.0, 116.0).to_bits(),
-                rng.range(-20.0, 100.0).to_bits(),
-                rng.range(0.0, 1.0).to_bits(),
-                1.0f32.to_bits(),
-                rng.range(small, big).to_bits(),
-                rng.next(),
-            ];
-            vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
-        }
+        let (fvf, vertices) = random_sprites(&mut rng, count, (small, big));
         let state = device.state();
-        let mut start = RenderTarget::new(w, h, 0, 1.0);
-        start.color.iter_mut().for_each(|c| *c = rng.next());
+        let start = random_target(&mut rng);
         let mut general = start.clone();
         draw_general(&mut general, state, fvf, &vertices);
         let levels = LanesLevel::available().into_iter().map(Some);
