@@ -1,16 +1,18 @@
 //! Blending: what a shaded pixel does to the target once it passed the alpha test: the depth
 //! test and write (SPEC 5.4), the blend ([`Blender`]: replace, the additive and source-alpha
-//! fast paths, the core reference for the rest; SPEC 5.5) and the channel mask (SPEC 5.6).
+//! fast paths, the core reference for the rest; SPEC 5.5) and the channel mask (SPEC 5.6); one
+//! pixel at a time ([`write_pixel`]), or a row of a wide span, N pixels with the alpha test too
+//! ([`write_span`]).
 //!
 //! Contract: every blender writes core's [`blend`] bit for bit, one pixel, four or N at a time.
 
-use pointillist_core::pixel::{BlendSetup, blend, compare, write_masked};
+use pointillist_core::pixel::{BlendSetup, PixelSetup, blend, compare, write_masked};
 use pointillist_core::point::PixelRect;
 use pointillist_core::states::Cmp;
 
 use super::DrawContext;
 use super::bands::{Band, rows};
-use crate::lanes::{BASELINE, Lanes, MAX_LANES, source_alpha_pixel};
+use crate::lanes::{BASELINE, LANE_INDEX, Lanes, MAX_LANES, source_alpha_pixel};
 
 /// How a source colour combines with the target.
 pub(super) trait Blender: Sync {
@@ -190,6 +192,109 @@ fn depth_test(ctx: &DrawContext, band: &mut Band, at: usize, z: f32) -> bool {
         band.depth[at] = z;
     }
     true
+}
+
+/// A span's pixels in a row of the band: their colours, their depths (empty without a depth
+/// test), and how many of them are the span's.
+pub(super) struct Row<'a> {
+    pub(super) color: &'a mut [u32],
+    pub(super) depth: &'a mut [f32],
+    pub(super) width: usize,
+}
+
+/// How [`write_span`] reaches a span's pixels: N of them.
+pub(super) const WHOLE: u8 = 0;
+/// The first `width` of N pixels that the row holds: loaded and stored whole, the others
+/// written back unchanged (masked stores of 256 bits are slow on AMD cores).
+pub(super) const WINDOW: u8 = 1;
+/// The first `width` pixels of a row with fewer than N left: masked loads and stores.
+pub(super) const PART: u8 = 2;
+
+/// Tests, blend and mask (SPEC 5.3 to 5.6, as `write_pixel`) of the pixels `color` at depths
+/// `depth` whose quantized shaded colour is `src`, reached as `REACH` says.
+#[inline(always)]
+pub(super) fn write_span<L: Lanes, B: Blender, const REACH: u8, const PLAIN: bool>(
+    l: L,
+    tests: &PixelSetup,
+    b: &B,
+    src: L::U,
+    z: f32,
+    Row {
+        color,
+        depth,
+        width,
+    }: Row,
+) {
+    let old = if REACH == PART {
+        l.load_u_part(color)
+    } else {
+        l.load_u(color)
+    };
+    let stored = match tests.depth {
+        Some(_) if REACH == PART => Some(l.load_part(depth)),
+        Some(_) => Some(l.load(depth)),
+        None => None,
+    };
+    let (mut new, mut z) = if PLAIN {
+        (b.blend_lanes(l, src, old), None)
+    } else {
+        span_colors(l, tests, b, src, z, old, stored)
+    };
+    if REACH == WINDOW {
+        // The lanes past the span write back what they read: this band's rows are this
+        // thread's alone.
+        let inside = l.cmp_u(Cmp::Less, l.load_u(&LANE_INDEX), l.splat_u(width as u32));
+        new = l.select(inside, new, old);
+        z = z
+            .zip(stored)
+            .map(|(z, stored)| l.select_f(inside, z, stored));
+    }
+    if REACH == PART {
+        l.store_u_part(color, new);
+    } else {
+        l.store_u(color, new);
+    }
+    match z {
+        Some(z) if REACH == PART => l.store_part(depth, z),
+        Some(z) => l.store(depth, z),
+        None => {}
+    }
+}
+
+/// The colours (and, with a depth write, depths) a span of pixels `old` at depths `stored`
+/// takes (SPEC 5.3 to 5.6, as `write_pixel`).
+#[inline(always)]
+fn span_colors<L: Lanes, B: Blender>(
+    l: L,
+    tests: &PixelSetup,
+    b: &B,
+    src: L::U,
+    z: f32,
+    old: L::U,
+    stored: Option<L::F>,
+) -> (L::U, Option<L::F>) {
+    let mut pass = None;
+    if let Some((func, reference)) = tests.alpha_test {
+        let alpha = l.alpha_bytes(src);
+        pass = Some(l.cmp_u(func, alpha, l.splat_u(u32::from(reference))));
+    }
+    let mut depth = None;
+    if let (Some(d), Some(stored)) = (tests.depth, stored) {
+        let zs = l.splat(z);
+        let passes = l.and(pass.unwrap_or(l.all()), l.cmp(d.func, zs, stored));
+        if d.write {
+            depth = Some(l.select_f(passes, zs, stored));
+        }
+        pass = Some(passes);
+    }
+    let mut new = b.blend_lanes(l, src, old);
+    if tests.write_mask != u32::MAX {
+        new = l.write_masked(tests.write_mask, new, old);
+    }
+    if let Some(pass) = pass {
+        new = l.select(pass, new, old);
+    }
+    (new, depth)
 }
 
 #[cfg(test)]

@@ -17,7 +17,8 @@
 //! 5. [`texels`]: the stage textures, their levels' planar forms, and the texels a sprite's
 //!    pixels read per pixel (SPEC 4.3, 5.2).
 //! 6. [`shading`]: the shading kind of the draw and the single MODULATE stage (SPEC 5.1).
-//! 7. [`blending`]: depth test, blend and channel mask of a shaded pixel (SPEC 5.4 to 5.6).
+//! 7. [`blending`]: depth test, blend and channel mask of a shaded pixel, or of a row of a
+//!    span with the alpha test too (SPEC 5.3 to 5.6).
 //!
 //! Parallel plan: every pixel sees the same operations in the same order whatever the thread
 //! count, so the output is bit-identical to sequential drawing. Each fast path computes exactly

@@ -6,16 +6,15 @@
 //!
 //! The level is unpacked at most once per draw into four channel planes with a margin of one
 //! texel on every side that holds what the address mode reads there ([`PlanarLevel`], built
-//! when the draw's sprites on it pay for it). The texel indices
-//! of a sprite's covered pixels lie within that margin (its coordinates are in `0..=1`), so
-//! every pixel reads its texels directly: column `k` of the sampler is entry `k + 1` of a plane
-//! row, row `l` is plane row `l + 1`. A sprite is filled span of columns by span of columns,
-//! each down the rows: the horizontal lerps of the two plane rows a pixel row reads (from
-//! consecutive entries with two loads, or gathered) stay in registers while the next pixel rows
-//! read them, and each pixel is then the vertical lerp, the modulate, the 8-bit quantization,
-//! the alpha and depth tests, the blend and the channel mask. Point sampling reads whole
-//! texels, so its modulate and quantization are one integer product of the packed bytes
-//! ([`Lanes::modulate`]).
+//! when the draw's sprites on it pay for it). The texel indices of a sprite's covered pixels
+//! lie within that margin (its coordinates are in `0..=1`), so every pixel reads its texels
+//! directly: column `k` of the sampler is entry `k + 1` of a plane row, row `l` is plane row
+//! `l + 1`. A sprite is filled span of columns by span of columns, each down the rows: the
+//! horizontal lerps of the two plane rows a pixel row reads (from consecutive entries with two
+//! loads, or gathered) stay in registers while the next pixel rows read them, and each pixel is
+//! then the vertical lerp, the modulate, the 8-bit quantization, and the alpha and depth tests,
+//! the blend and the channel mask ([`write_span`]). Point sampling reads whole texels, so its
+//! modulate and quantization are one integer product of the packed bytes ([`Lanes::modulate`]).
 //! A sprite whose indices leave the margin (edges snapped outside the square) is left to the
 //! per-pixel fill, as are those the spans do not take (see [`super::fills`]).
 //!
@@ -28,10 +27,10 @@
 #![allow(unsafe_code)]
 
 use pointillist_core::color::unpack;
-use pointillist_core::pixel::PixelSetup;
 use pointillist_core::states::Cmp;
 use pointillist_core::texture::{COORD_LIMIT, Level as TextureLevel, SamplerDesc, fetch};
 
+use super::blending::{PART, Row, WHOLE, WINDOW, write_span};
 use super::{Band, Blender, DrawContext, ModulateAlpha, SpriteView, rows};
 use crate::lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable, channels};
 
@@ -429,7 +428,7 @@ struct Down<'a> {
 }
 
 /// One span of columns of a sprite, row after row: the texel rows read filtered once and kept
-/// while the next rows read them, each row's pixels reached as `REACH` says ([`pixels`]).
+/// while the next rows read them, each row's pixels reached as `REACH` says ([`write_span`]).
 #[inline(always)]
 fn fill_down<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const REACH: u8>(
     l: L,
@@ -477,7 +476,9 @@ fn fill_down<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const 
             let then = read.advance(row, after, now);
             let src = shaded(l, shade, now, fy[k]);
             // SAFETY: row `k` is below `rows`.
-            unsafe { pixels::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k)) };
+            unsafe {
+                write_span::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k))
+            };
             now = then;
         }
     } else {
@@ -490,7 +491,9 @@ fn fill_down<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const 
             }
             let src = l.modulate(point, shade.modulator);
             // SAFETY: row `k` is below `rows`.
-            unsafe { pixels::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k)) };
+            unsafe {
+                write_span::<L, B, REACH, PLAIN>(l, tests, b, src, shade.z, pixels_at.row(k))
+            };
         }
     }
 }
@@ -644,109 +647,6 @@ fn texels_at<L: Lanes>(l: L, texels: &PlanarLevel, y: usize, columns: &Columns<L
     } else {
         l.gather_u(&row[..texels.pitch], columns.entries)
     }
-}
-
-/// A span's pixels in a row of the band: their colours, their depths (empty without a depth
-/// test), and how many of them are the span's.
-struct Row<'a> {
-    color: &'a mut [u32],
-    depth: &'a mut [f32],
-    width: usize,
-}
-
-/// How [`pixels`] reaches a span's pixels: N of them.
-const WHOLE: u8 = 0;
-/// The first `width` of N pixels that the row holds: loaded and stored whole, the others
-/// written back unchanged (masked stores of 256 bits are slow on AMD cores).
-const WINDOW: u8 = 1;
-/// The first `width` pixels of a row with fewer than N left: masked loads and stores.
-const PART: u8 = 2;
-
-/// Tests, blend and mask (SPEC 5.3 to 5.6, as `write_pixel`) of the pixels `color` at depths
-/// `depth` whose quantized shaded colour is `src`, reached as `REACH` says.
-#[inline(always)]
-fn pixels<L: Lanes, B: Blender, const REACH: u8, const PLAIN: bool>(
-    l: L,
-    tests: &PixelSetup,
-    b: &B,
-    src: L::U,
-    z: f32,
-    Row {
-        color,
-        depth,
-        width,
-    }: Row,
-) {
-    let old = if REACH == PART {
-        l.load_u_part(color)
-    } else {
-        l.load_u(color)
-    };
-    let stored = match tests.depth {
-        Some(_) if REACH == PART => Some(l.load_part(depth)),
-        Some(_) => Some(l.load(depth)),
-        None => None,
-    };
-    let (mut new, mut z) = if PLAIN {
-        (b.blend_lanes(l, src, old), None)
-    } else {
-        span_pixels(l, tests, b, src, z, old, stored)
-    };
-    if REACH == WINDOW {
-        // The lanes past the span write back what they read: this band's rows are this
-        // thread's alone.
-        let inside = l.cmp_u(Cmp::Less, l.load_u(&LANE_INDEX), l.splat_u(width as u32));
-        new = l.select(inside, new, old);
-        z = z
-            .zip(stored)
-            .map(|(z, stored)| l.select_f(inside, z, stored));
-    }
-    if REACH == PART {
-        l.store_u_part(color, new);
-    } else {
-        l.store_u(color, new);
-    }
-    match z {
-        Some(z) if REACH == PART => l.store_part(depth, z),
-        Some(z) => l.store(depth, z),
-        None => {}
-    }
-}
-
-/// The colours (and, with a depth write, depths) a span of pixels `old` at depths `stored`
-/// takes (SPEC 5.3 to 5.6, as `write_pixel`).
-#[inline(always)]
-fn span_pixels<L: Lanes, B: Blender>(
-    l: L,
-    tests: &PixelSetup,
-    b: &B,
-    src: L::U,
-    z: f32,
-    old: L::U,
-    stored: Option<L::F>,
-) -> (L::U, Option<L::F>) {
-    let mut pass = None;
-    if let Some((func, reference)) = tests.alpha_test {
-        let alpha = l.alpha_bytes(src);
-        pass = Some(l.cmp_u(func, alpha, l.splat_u(u32::from(reference))));
-    }
-    let mut depth = None;
-    if let (Some(d), Some(stored)) = (tests.depth, stored) {
-        let zs = l.splat(z);
-        let passes = l.and(pass.unwrap_or(l.all()), l.cmp(d.func, zs, stored));
-        if d.write {
-            depth = Some(l.select_f(passes, zs, stored));
-        }
-        pass = Some(passes);
-    }
-    let mut new = b.blend_lanes(l, src, old);
-    if tests.write_mask != u32::MAX {
-        new = l.write_masked(tests.write_mask, new, old);
-    }
-    if let Some(pass) = pass {
-        new = l.select(pass, new, old);
-    }
-    (new, depth)
 }
 
 #[cfg(test)]
