@@ -11,7 +11,7 @@ use pointillist_particles::{
 };
 use toml::de::DeValue;
 
-use super::states::state_value;
+use super::states::{StageState, render_state, stage_state};
 use super::{Charge, Parser};
 use crate::reader::{
     Source, Value, array, boolean, count, entries, expected, fields, finite, float, floats, index,
@@ -633,20 +633,7 @@ impl Parser<'_> {
         let mut seen = crate::reader::Seen::default();
         for (k, v) in entries(t) {
             let path = join(path, k.get_ref());
-            let state = RenderState::from_name(k.get_ref()).ok_or_else(|| {
-                self.src.error(
-                    &k.span(),
-                    &path,
-                    format!("unknown render state `{}`", k.get_ref()),
-                )
-            })?;
-            let name = state.name().unwrap_or_default();
-            seen.once(&self.src, name, k, &path)?;
-            let limit = (state == RenderState::ALPHAREF).then_some(255);
-            out.push((
-                state,
-                state_value(&self.src, state.kind(), name, limit, v, &path)?,
-            ));
+            out.push(render_state(&self.src, &mut seen, k, v, &path)?);
         }
         Ok(out)
     }
@@ -663,27 +650,9 @@ impl Parser<'_> {
         let mut seen = crate::reader::Seen::default();
         for (k, v) in entries(t) {
             let path = join(path, k.get_ref());
-            let name = k.get_ref().as_ref();
-            if let Some(state) = TextureStageState::from_name(name) {
-                let canonical = state.name().unwrap_or_default();
-                seen.once(&self.src, canonical, k, &path)?;
-                stage.push((
-                    state,
-                    state_value(&self.src, state.kind(), canonical, None, v, &path)?,
-                ));
-            } else if let Some(state) = SamplerState::from_name(name) {
-                let canonical = state.name().unwrap_or_default();
-                seen.once(&self.src, canonical, k, &path)?;
-                sampler.push((
-                    state,
-                    state_value(&self.src, state.kind(), canonical, None, v, &path)?,
-                ));
-            } else {
-                return Err(self.src.error(
-                    &k.span(),
-                    &path,
-                    format!("unknown texture stage or sampler state `{name}`"),
-                ));
+            match stage_state(&self.src, &mut seen, k, v, &path)? {
+                StageState::Texture(state, value) => stage.push((state, value)),
+                StageState::Sampler(state, value) => sampler.push((state, value)),
             }
         }
         Ok((stage, sampler))

@@ -5,7 +5,8 @@
 use pointillist_core::states::{
     EnumType, RenderState, SamplerState, TextureStageState, ValueKind, texture_arg_from_name,
 };
-use toml::de::DeValue;
+use toml::Spanned;
+use toml::de::{DeString, DeValue};
 
 use super::{MAX_STAGE, Parser};
 use crate::reader::{
@@ -20,17 +21,7 @@ impl Parser<'_> {
         let mut seen = Seen::default();
         for (k, v) in entries(t) {
             let path = join(path, k.get_ref());
-            let state = RenderState::from_name(k.get_ref()).ok_or_else(|| {
-                self.src.error(
-                    &k.span(),
-                    &path,
-                    format!("unknown render state `{}`", k.get_ref()),
-                )
-            })?;
-            let name = state.name().unwrap_or_default();
-            seen.once(&self.src, name, k, &path)?;
-            let limit = (state == RenderState::ALPHAREF).then_some(255);
-            let value = state_value(&self.src, state.kind(), name, limit, v, &path)?;
+            let (state, value) = render_state(&self.src, &mut seen, k, v, &path)?;
             self.push(Command::RenderState(state, value), v, &path);
         }
         Ok(())
@@ -78,36 +69,81 @@ impl Parser<'_> {
             let mut seen = Seen::default();
             for (k, v) in entries(t) {
                 let path = join(&path, k.get_ref());
-                let name = k.get_ref().as_ref();
-                let command = if let Some(state) = TextureStageState::from_name(name) {
-                    let canonical = state.name().unwrap_or_default();
-                    seen.once(&self.src, canonical, k, &path)?;
-                    let value = state_value(&self.src, state.kind(), canonical, None, v, &path)?;
-                    Command::TextureStageState {
+                let command = match stage_state(&self.src, &mut seen, k, v, &path)? {
+                    StageState::Texture(state, value) => Command::TextureStageState {
                         stage,
                         state,
                         value,
-                    }
-                } else if let Some(state) = SamplerState::from_name(name) {
-                    let canonical = state.name().unwrap_or_default();
-                    seen.once(&self.src, canonical, k, &path)?;
-                    let value = state_value(&self.src, state.kind(), canonical, None, v, &path)?;
-                    Command::SamplerState {
+                    },
+                    StageState::Sampler(state, value) => Command::SamplerState {
                         sampler: stage,
                         state,
                         value,
-                    }
-                } else {
-                    return Err(self.src.error(
-                        &k.span(),
-                        &path,
-                        format!("unknown texture stage or sampler state `{name}`"),
-                    ));
+                    },
                 };
                 self.push(command, v, &path);
             }
         }
         Ok(())
+    }
+}
+
+/// The render state (SPEC 2.7) that key `k` of a table names, and its value `v` read by the
+/// state's kind; a state that an earlier key of the table (`seen`) named is an error.
+pub(super) fn render_state(
+    src: &Source<'_>,
+    seen: &mut Seen,
+    k: &Spanned<DeString<'_>>,
+    v: &Value<'_>,
+    path: &str,
+) -> Result<(RenderState, u32), SceneError> {
+    let state = RenderState::from_name(k.get_ref()).ok_or_else(|| {
+        src.error(
+            &k.span(),
+            path,
+            format!("unknown render state `{}`", k.get_ref()),
+        )
+    })?;
+    let name = state.name().unwrap_or_default();
+    seen.once(src, name, k, path)?;
+    let limit = (state == RenderState::ALPHAREF).then_some(255);
+    Ok((state, state_value(src, state.kind(), name, limit, v, path)?))
+}
+
+/// A state of a stage's table: a texture stage state (SPEC 5.1) or a sampler state (SPEC 5.2)
+/// and its value.
+pub(super) enum StageState {
+    Texture(TextureStageState, u32),
+    Sampler(SamplerState, u32),
+}
+
+/// The texture stage or sampler state that key `k` of a stage's table names, and its value
+/// `v` read by the state's kind; a state that an earlier key of the table (`seen`) named is an
+/// error.
+pub(super) fn stage_state(
+    src: &Source<'_>,
+    seen: &mut Seen,
+    k: &Spanned<DeString<'_>>,
+    v: &Value<'_>,
+    path: &str,
+) -> Result<StageState, SceneError> {
+    let name = k.get_ref().as_ref();
+    if let Some(state) = TextureStageState::from_name(name) {
+        let canonical = state.name().unwrap_or_default();
+        seen.once(src, canonical, k, path)?;
+        let value = state_value(src, state.kind(), canonical, None, v, path)?;
+        Ok(StageState::Texture(state, value))
+    } else if let Some(state) = SamplerState::from_name(name) {
+        let canonical = state.name().unwrap_or_default();
+        seen.once(src, canonical, k, path)?;
+        let value = state_value(src, state.kind(), canonical, None, v, path)?;
+        Ok(StageState::Sampler(state, value))
+    } else {
+        Err(src.error(
+            &k.span(),
+            path,
+            format!("unknown texture stage or sampler state `{name}`"),
+        ))
     }
 }
 
