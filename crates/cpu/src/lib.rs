@@ -29,8 +29,6 @@ mod test_rng;
 use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_core::draw::DrawSetup;
 
-pub use pointillist_core::device;
-
 /// The vectors the CPU backend's wide pixel spans and point batches run on, `avx512`, `avx2` or
 /// `sse2` (every x86-64 CPU has it), the widest the CPU supports unless the environment variable
 /// `POINTILLIST_LANES` names a narrower one; or `portable` (plain scalar code) elsewhere or when
