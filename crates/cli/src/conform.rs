@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use pointillist_conformance::runner::Runner;
 use pointillist_conformance::{Options, conform, export, find_cases};
+use pointillist_image::output::Destination;
 
 use crate::{ConformArgs, ExportCallsArgs};
 
@@ -14,16 +15,11 @@ const UNEXPECTED: u8 = 1;
 /// Exit status of `conform` when the kit itself cannot run.
 const KIT_FAILED: u8 = 2;
 
-/// Writes `bytes` to `path` through a temporary file renamed over it.
+/// Writes `bytes` to `path` atomically (an existing file is replaced only by a whole one).
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".partial");
-    std::fs::write(&tmp, bytes)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            format!("cannot write {}: {e}", path.display())
-        })
+    Destination::check(path, &[])
+        .and_then(|d| d.write_bytes(bytes))
+        .map_err(|e| e.to_string())
 }
 
 /// Exports one scene's calls.

@@ -5,7 +5,6 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
 
 use serde::Serialize;
 
@@ -385,14 +384,6 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
     }
     h.push_str("</table>\n</body></html>\n");
     h
-}
-
-/// Writes `text` to `path` through a temporary file renamed over it.
-pub fn write_atomic(path: &Path, text: &str) -> Result<(), String> {
-    let tmp = path.with_extension("partial");
-    std::fs::write(&tmp, text)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
 #[cfg(test)]

@@ -14,6 +14,8 @@ use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+use pointillist_image::output::Destination;
+
 /// The C source of the replayer, built by [`build_replayer`].
 pub const REPLAYER_SOURCE: &str = include_str!("../replayer/replayer.c");
 
@@ -201,17 +203,23 @@ fn cache_dir() -> PathBuf {
         .join("pointillist")
 }
 
-/// Builds the replayer with [`MINGW_CC`] into `out` (written beside it, then renamed).
+/// Builds the replayer with [`MINGW_CC`] into `out`, atomically: the compiler writes a
+/// temporary file beside it (a [`PendingFile`](pointillist_image::output::PendingFile)), put in
+/// place only when the build succeeds and removed when it fails.
 pub fn build_replayer(out: &Path) -> Result<(), String> {
     if let Some(dir) = out.parent() {
         fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     let source = out.with_extension("c");
     fs::write(&source, REPLAYER_SOURCE).map_err(|e| format!("{}: {e}", source.display()))?;
-    let partial = out.with_extension("partial.exe");
+    let mut exe = Destination::check(out, &[])
+        .and_then(|d| d.create())
+        .map_err(|e| e.to_string())?;
+    // The compiler writes the file, by its name.
+    exe.close().map_err(|e| e.to_string())?;
     let result = Command::new(MINGW_CC)
         .args(["-std=c99", "-O2", "-o"])
-        .arg(&partial)
+        .arg(exe.temp_path())
         .arg(&source)
         .arg("-ld3d9")
         .output();
@@ -228,7 +236,7 @@ pub fn build_replayer(out: &Path) -> Result<(), String> {
             err.lines().next().unwrap_or("")
         ));
     }
-    fs::rename(&partial, out).map_err(|e| format!("{}: {e}", out.display()))
+    exe.commit().map_err(|e| e.to_string())
 }
 
 /// The replayer built from [`REPLAYER_SOURCE`] in the cache folder, built when missing.

@@ -39,6 +39,13 @@ fn the_replayer_names_failing_calls_and_goes_on() {
     fs::create_dir_all(&calls).unwrap();
     let exe = dir.join("replayer.exe");
     runner::build_replayer(&exe).unwrap();
+    // Built through a temporary file put in place: nothing else is left beside it.
+    let mut listing: Vec<String> = fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    listing.sort();
+    assert_eq!(listing, ["calls", "replayer.c", "replayer.exe"]);
 
     let clear = Call::Clear {
         color: 0x80FF_0000,

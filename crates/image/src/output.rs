@@ -204,6 +204,15 @@ impl Destination {
         })
     }
 
+    /// Writes `bytes` as the file, atomically: for outputs that are whole in memory (a report,
+    /// a list of calls).
+    pub fn write_bytes(&self, bytes: &[u8]) -> Result<(), ImageError> {
+        let mut file = self.create()?;
+        file.write_all(bytes)
+            .map_err(|e| io_error("write", &self.given, e))?;
+        file.commit()
+    }
+
     /// Writes `width` x `height` RGBA8 pixels as a PNG file (crate::png::write_png_rgba8),
     /// atomically.
     pub fn write_png(
@@ -385,9 +394,7 @@ mod tests {
     }
 
     fn write(dest: &Path, inputs: &[PathBuf], data: &[u8]) -> Result<(), ImageError> {
-        let mut f = Destination::check(dest, inputs)?.create()?;
-        f.write_all(data).unwrap();
-        f.commit()
+        Destination::check(dest, inputs)?.write_bytes(data)
     }
 
     #[test]
