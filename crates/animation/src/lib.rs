@@ -281,20 +281,13 @@ pub fn animate<B: Backend>(
                 scene
                     .render_frame(&mut device, &mut system, &mut buffers, k)
                     .map_err(|e| e.to_string())?;
-                let target = device
-                    .read_target()
-                    .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
                 // No buffer back: the encoder failed, and its error is the one to report.
                 let Some(mut rgba) = spare.pop().or_else(|| free_rx.recv().ok()) else {
                     return Ok(());
                 };
-                rgba.clear();
-                rgba.extend(
-                    target
-                        .color
-                        .iter()
-                        .flat_map(|&c| pointillist_core::color::argb_to_rgba8(c)),
-                );
+                device
+                    .read_rgba8(&mut rgba)
+                    .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
                 if full_tx.send(rgba).is_err() {
                     return Ok(());
                 }

@@ -107,6 +107,12 @@ impl Backend for CpuBackend {
         Ok(self.target.clone())
     }
 
+    fn read_rgba8(&mut self, rgba: &mut Vec<u8>) -> Result<(), DeviceError> {
+        self.write_pending_clear();
+        self.target.rgba8_into(rgba);
+        Ok(())
+    }
+
     fn take_target(&mut self) -> Result<RenderTarget, DeviceError> {
         self.write_pending_clear();
         Ok(std::mem::take(&mut self.target))

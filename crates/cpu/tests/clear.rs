@@ -6,9 +6,10 @@ mod common;
 
 use common::Rng;
 
-use pointillist_core::device::{Backend, DeviceDesc, RenderTarget};
+use pointillist_core::device::{Backend, Device, DeviceDesc, RenderTarget};
 use pointillist_core::fvf::Fvf;
 use pointillist_core::states::{Blend, Cmp, RenderState};
+use pointillist_cpu::CpuBackend;
 
 const CLEAR_COLOR: u32 = 0xFF20_4060;
 const CLEAR_DEPTH: f32 = 0.6;
@@ -93,4 +94,49 @@ fn a_new_target_drops_a_pending_clear() {
     assert_eq!((t.width, t.height), (32, 16));
     assert!(t.color.iter().all(|&c| c == 0xFF00_00FF));
     assert!(t.depth.iter().all(|&z| z == 0.5));
+}
+
+/// `read_rgba8` reads the target where it lies, a pending clear written first, into a buffer
+/// that serves frame after frame: the bytes of `read_target`'s colours, whatever the buffer
+/// held, directly and through a boxed backend.
+#[test]
+fn read_rgba8_gives_the_colours_of_read_target() {
+    let mut d = pointillist_cpu::device(DeviceDesc::new(64, 48)).expect("device");
+    d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
+    let mut rgba = vec![7u8; 100_000];
+    d.read_rgba8(&mut rgba).expect("read back");
+    assert_eq!(rgba.len(), 64 * 48 * 4);
+    assert!(rgba.chunks(4).all(|p| p == [0x20, 0x40, 0x60, 0xFF]));
+
+    let mut rng = Rng(0x00C1_EA25_0000_0004);
+    let rhw = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+    let mut vertices = Vec::new();
+    for _ in 0..500 {
+        let words = [
+            (rng.unit() * 70.0 - 3.0).to_bits(),
+            (rng.unit() * 54.0 - 3.0).to_bits(),
+            0.5f32.to_bits(),
+            1.0f32.to_bits(),
+            (1.0 + rng.unit() * 5.0).to_bits(),
+            rng.next_u64() as u32,
+        ];
+        vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+    }
+    d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
+    d.draw_point_list(rhw, &vertices).expect("draw");
+    d.read_rgba8(&mut rgba).expect("read back");
+    let target = d.read_target().expect("read back");
+    assert_ne!(
+        target.color.iter().filter(|&&c| c != CLEAR_COLOR).count(),
+        0
+    );
+    assert_eq!(rgba, target.to_rgba8());
+
+    let backend: Box<dyn Backend> = Box::new(CpuBackend::new());
+    let mut boxed = Device::new(backend, DeviceDesc::new(64, 48)).expect("device");
+    boxed.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
+    boxed.draw_point_list(rhw, &vertices).expect("draw");
+    let mut again = Vec::new();
+    boxed.read_rgba8(&mut again).expect("read back");
+    assert_eq!(again, rgba);
 }

@@ -232,6 +232,17 @@ impl RenderTarget {
             .collect()
     }
 
+    /// The pixels as RGBA8 bytes like [`RenderTarget::to_rgba8`], into `rgba` (cleared first,
+    /// so that one buffer serves frame after frame).
+    pub fn rgba8_into(&self, rgba: &mut Vec<u8>) {
+        rgba.clear();
+        rgba.extend(
+            self.color
+                .iter()
+                .flat_map(|&c| crate::color::argb_to_rgba8(c)),
+        );
+    }
+
     /// The pixels as RGBA8 bytes like [`RenderTarget::to_rgba8`], converted where they lie: the
     /// depth buffer is freed and no second image is allocated (a 16384x16384 target holds 2 GiB
     /// with its depth; a copy would add 1 GiB).
@@ -275,6 +286,14 @@ pub trait Backend {
     fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError>;
     /// Reads the target back.
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError>;
+    /// Reads the target's colours back as RGBA8 bytes into `rgba`
+    /// ([`RenderTarget::rgba8_into`]). By default through [`Backend::read_target`]; a backend
+    /// that holds the target in memory reads them where they lie, copying neither the colours
+    /// nor the depths.
+    fn read_rgba8(&mut self, rgba: &mut Vec<u8>) -> Result<(), DeviceError> {
+        self.read_target()?.rgba8_into(rgba);
+        Ok(())
+    }
     /// Reads the target back for the last time: a backend that holds it in memory hands it over
     /// instead of copying it (the device is dropped next).
     fn take_target(&mut self) -> Result<RenderTarget, DeviceError> {
@@ -302,6 +321,9 @@ impl<B: Backend + ?Sized> Backend for Box<B> {
     }
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
         (**self).read_target()
+    }
+    fn read_rgba8(&mut self, rgba: &mut Vec<u8>) -> Result<(), DeviceError> {
+        (**self).read_rgba8(rgba)
     }
     fn take_target(&mut self) -> Result<RenderTarget, DeviceError> {
         (**self).take_target()
@@ -610,6 +632,12 @@ impl<B: Backend> Device<B> {
     /// Reads the render target back.
     pub fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
         self.backend.read_target()
+    }
+
+    /// Reads the render target's colours back as RGBA8 bytes into `rgba`, a buffer that serves
+    /// frame after frame ([`Backend::read_rgba8`]: no copy of the target on the CPU backend).
+    pub fn read_rgba8(&mut self, rgba: &mut Vec<u8>) -> Result<(), DeviceError> {
+        self.backend.read_rgba8(rgba)
     }
 
     /// Reads the render target back and ends the device: the target is handed over where the
