@@ -14,33 +14,37 @@ use pointillist_cpu::CpuBackend;
 const CLEAR_COLOR: u32 = 0xFF20_4060;
 const CLEAR_DEPTH: f32 = 0.6;
 
+/// Pre-transformed points with a size and a colour, a few outside the 200x150 target.
+const RHW: Fvf = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+
+/// `n` points of [`RHW`] at random places, depths in 0..1, sizes 1 to 7 and colours.
+fn random_points(rng: &mut Rng, n: usize) -> Vec<u8> {
+    let mut v = Vec::new();
+    for _ in 0..n {
+        let words = [
+            (rng.unit() * 220.0 - 10.0).to_bits(),
+            (rng.unit() * 170.0 - 10.0).to_bits(),
+            rng.unit().to_bits(),
+            1.0f32.to_bits(),
+            (1.0 + rng.unit() * 6.0).to_bits(),
+            rng.next_u64() as u32,
+        ];
+        v.extend(words.iter().flat_map(|w| w.to_le_bytes()));
+    }
+    v
+}
+
 /// Points with depths in 0..1 under a LESS depth test (so the cleared depth 0.6 rejects some),
 /// additive, after an earlier draw that wrote colour and depth; `read_after_clear` reads the
 /// target right after the clear, which writes the clear at once.
 fn render(points: usize, read_after_clear: bool) -> RenderTarget {
     let mut d = pointillist_cpu::device(DeviceDesc::new(200, 150)).expect("device");
     let mut rng = Rng(0x00C1_EA25_0000_0003);
-    let rhw = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
-    let mut vertices = |n: usize| -> Vec<u8> {
-        let mut v = Vec::new();
-        for _ in 0..n {
-            let words = [
-                (rng.unit() * 220.0 - 10.0).to_bits(),
-                (rng.unit() * 170.0 - 10.0).to_bits(),
-                rng.unit().to_bits(),
-                1.0f32.to_bits(),
-                (1.0 + rng.unit() * 6.0).to_bits(),
-                rng.next_u64() as u32,
-            ];
-            v.extend(words.iter().flat_map(|w| w.to_le_bytes()));
-        }
-        v
-    };
     d.set_render_state(RenderState::ZENABLE, true);
     d.set_render_state(RenderState::ZWRITEENABLE, true);
     d.set_render_state(RenderState::ZFUNC, Cmp::Less);
-    let before = vertices(3000);
-    d.draw_point_list(rhw, &before).expect("first draw");
+    let before = random_points(&mut rng, 3000);
+    d.draw_point_list(RHW, &before).expect("first draw");
     d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
     if read_after_clear {
         let cleared = d.read_target().expect("read back");
@@ -50,8 +54,8 @@ fn render(points: usize, read_after_clear: bool) -> RenderTarget {
     d.set_render_state(RenderState::ALPHABLENDENABLE, true);
     d.set_render_state(RenderState::SRCBLEND, Blend::One);
     d.set_render_state(RenderState::DESTBLEND, Blend::One);
-    let after = vertices(points);
-    d.draw_point_list(rhw, &after).expect("second draw");
+    let after = random_points(&mut rng, points);
+    d.draw_point_list(RHW, &after).expect("second draw");
     d.read_target().expect("read back")
 }
 
@@ -101,29 +105,16 @@ fn a_new_target_drops_a_pending_clear() {
 /// held, directly and through a boxed backend.
 #[test]
 fn read_rgba8_gives_the_colours_of_read_target() {
-    let mut d = pointillist_cpu::device(DeviceDesc::new(64, 48)).expect("device");
+    let mut d = pointillist_cpu::device(DeviceDesc::new(200, 150)).expect("device");
     d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
-    let mut rgba = vec![7u8; 100_000];
+    let mut rgba = vec![7u8; 200_000];
     d.read_rgba8(&mut rgba).expect("read back");
-    assert_eq!(rgba.len(), 64 * 48 * 4);
+    assert_eq!(rgba.len(), 200 * 150 * 4);
     assert!(rgba.chunks(4).all(|p| p == [0x20, 0x40, 0x60, 0xFF]));
 
-    let mut rng = Rng(0x00C1_EA25_0000_0004);
-    let rhw = Fvf(Fvf::XYZRHW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
-    let mut vertices = Vec::new();
-    for _ in 0..500 {
-        let words = [
-            (rng.unit() * 70.0 - 3.0).to_bits(),
-            (rng.unit() * 54.0 - 3.0).to_bits(),
-            0.5f32.to_bits(),
-            1.0f32.to_bits(),
-            (1.0 + rng.unit() * 5.0).to_bits(),
-            rng.next_u64() as u32,
-        ];
-        vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
-    }
+    let vertices = random_points(&mut Rng(0x00C1_EA25_0000_0004), 500);
     d.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
-    d.draw_point_list(rhw, &vertices).expect("draw");
+    d.draw_point_list(RHW, &vertices).expect("draw");
     d.read_rgba8(&mut rgba).expect("read back");
     let target = d.read_target().expect("read back");
     assert_ne!(
@@ -133,9 +124,9 @@ fn read_rgba8_gives_the_colours_of_read_target() {
     assert_eq!(rgba, target.to_rgba8());
 
     let backend: Box<dyn Backend> = Box::new(CpuBackend::new());
-    let mut boxed = Device::new(backend, DeviceDesc::new(64, 48)).expect("device");
+    let mut boxed = Device::new(backend, DeviceDesc::new(200, 150)).expect("device");
     boxed.clear(CLEAR_COLOR, CLEAR_DEPTH).expect("clear");
-    boxed.draw_point_list(rhw, &vertices).expect("draw");
+    boxed.draw_point_list(RHW, &vertices).expect("draw");
     let mut again = Vec::new();
     boxed.read_rgba8(&mut again).expect("read back");
     assert_eq!(again, rgba);
