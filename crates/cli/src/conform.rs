@@ -6,7 +6,6 @@ use std::process::ExitCode;
 
 use pointillist_conformance::runner::Runner;
 use pointillist_conformance::{Options, conform, export, find_cases};
-use pointillist_image::output::Destination;
 
 use crate::{ConformArgs, ExportCallsArgs};
 
@@ -17,9 +16,7 @@ const KIT_FAILED: u8 = 2;
 
 /// Writes `bytes` to `path` atomically (an existing file is replaced only by a whole one).
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    Destination::check(path, &[])
-        .and_then(|d| d.write_bytes(bytes))
-        .map_err(|e| e.to_string())
+    pointillist_image::write_file_atomic(path, bytes).map_err(|e| e.to_string())
 }
 
 /// Exports one scene's calls.

@@ -27,7 +27,6 @@ use pointillist_core::caps::Caps;
 use pointillist_core::color::rgba8_to_argb;
 use pointillist_core::{Device, DeviceDesc, RenderTarget};
 use pointillist_cpu::CpuBackend;
-use pointillist_image::output::Destination;
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::Scene;
 
@@ -419,8 +418,7 @@ pub fn conform(opts: &Options) -> Result<Summary, String> {
         }
     }
     let write = |name: &str, text: String| {
-        Destination::check(&dir.join(name), &[])
-            .and_then(|d| d.write_bytes(text.as_bytes()))
+        pointillist_image::write_file_atomic(&dir.join(name), text.as_bytes())
             .map_err(|e| e.to_string())
     };
     write("report.json", report::json(&captures.device, &reports))?;

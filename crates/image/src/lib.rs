@@ -338,6 +338,12 @@ pub fn write_png_atomic(
     output::Destination::check(path, &[])?.write_png(width, height, rgba, png::Compression::Fast)
 }
 
+/// Writes `bytes` as a file atomically, through [`output::Destination`] (no inputs to
+/// protect), like [`write_png_atomic`]: for outputs whole in memory (a report, a list of calls).
+pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+    output::Destination::check(path, &[])?.write_bytes(bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -226,10 +226,9 @@ impl RenderTarget {
 
     /// The pixels as RGBA8 bytes, the layout of a PNG (SCENE.md, command line).
     pub fn to_rgba8(&self) -> Vec<u8> {
-        self.color
-            .iter()
-            .flat_map(|&c| crate::color::argb_to_rgba8(c))
-            .collect()
+        let mut rgba = Vec::with_capacity(self.color.len() * 4);
+        self.rgba8_into(&mut rgba);
+        rgba
     }
 
     /// The pixels as RGBA8 bytes like [`RenderTarget::to_rgba8`], into `rgba` (cleared first,

@@ -210,7 +210,7 @@ pub(super) const WINDOW: u8 = 1;
 /// The first `width` pixels of a row with fewer than N left: masked loads and stores.
 pub(super) const PART: u8 = 2;
 
-/// Tests, blend and mask (SPEC 5.3 to 5.6, as `write_pixel`) of the pixels `color` at depths
+/// Tests, blend and mask (SPEC 5.3 to 5.6, as [`write_pixel`]) of the pixels `color` at depths
 /// `depth` whose quantized shaded colour is `src`, reached as `REACH` says.
 #[inline(always)]
 pub(super) fn write_span<L: Lanes, B: Blender, const REACH: u8, const PLAIN: bool>(
@@ -262,7 +262,7 @@ pub(super) fn write_span<L: Lanes, B: Blender, const REACH: u8, const PLAIN: boo
 }
 
 /// The colours (and, with a depth write, depths) a span of pixels `old` at depths `stored`
-/// takes (SPEC 5.3 to 5.6, as `write_pixel`).
+/// takes (SPEC 5.3 to 5.6, as [`write_pixel`]).
 #[inline(always)]
 fn span_colors<L: Lanes, B: Blender>(
     l: L,
