@@ -19,8 +19,9 @@ mod sink;
 
 use std::path::{Path, PathBuf};
 
-use pointillist_core::Device;
+use pointillist_core::behaviour::BehaviourSetting;
 use pointillist_core::device::Backend;
+use pointillist_core::{Device, DeviceDesc};
 use pointillist_image::output::Destination;
 pub use pointillist_image::png::Compression;
 use pointillist_particles::DrawBuffers;
@@ -129,6 +130,8 @@ pub struct Request {
     pub frames: Option<u32>,
     /// How PNG and APNG output is compressed (`--compression`).
     pub compression: Compression,
+    /// Device behaviour switches over the scene's `[behaviour]` (`--behaviour`).
+    pub behaviours: Vec<BehaviourSetting>,
 }
 
 /// What was written.
@@ -238,7 +241,11 @@ pub fn animate<B: Backend>(
         .map_err(|e| format!("{scene_name}: --frames {frames}: {e}"))?;
     let (format, dests) = check_output(request, frames, &scene.inputs, observer)?;
     let mut system = scene.particle_system().map_err(|e| e.to_string())?;
-    let mut device = Device::new(backend()?, scene.device_desc())
+    let desc = DeviceDesc {
+        behaviours: scene.behaviours.with(&request.behaviours),
+        ..scene.device_desc()
+    };
+    let mut device = Device::new(backend()?, desc)
         .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
     let (width, height) = (scene.target.width, scene.target.height);
     let out = &request.output;

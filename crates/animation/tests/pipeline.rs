@@ -53,6 +53,7 @@ fn run(out: &Path, frames: u32, stop_at: Option<u32>) -> (Result<(), String>, Ve
         format: None,
         frames: Some(frames),
         compression: Compression::Fast,
+        behaviours: Vec::new(),
     };
     let mut observer = Quiet {
         done: Vec::new(),

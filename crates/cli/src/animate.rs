@@ -61,6 +61,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
         format: args.format.map(Format::from),
         frames: args.frames,
         compression: args.compression.into(),
+        behaviours: args.behaviours.clone(),
     };
     let mut terminal = Terminal { progress: None };
     let result = pointillist_animation::animate(

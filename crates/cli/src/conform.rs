@@ -69,6 +69,7 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
         runner,
         report: args.report.clone(),
         expect: args.expect.clone(),
+        behaviours: args.behaviours.clone(),
     };
     let summary = match conform(&opts) {
         Ok(summary) => summary,
@@ -83,9 +84,18 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
     for (case, why) in &summary.unexpected {
         crate::report::errln!("{case}: {why}");
     }
-    let [m, d, e] = summary.counts;
+    let [m, o, d, e] = summary.counts;
+    let shown: Vec<String> = summary
+        .behaviours
+        .iter()
+        .filter_map(|(name, option)| option.map(|o| format!("{name} = {o}")))
+        .collect();
+    if !shown.is_empty() {
+        crate::report::outln!("device behaviours shown: {}", shown.join(", "));
+    }
     crate::report::outln!(
-        "{} cases: {m} match, {d} differ, {e} errors; {} unexpected; report: {}",
+        "{} cases: {m} match, {o} match under another behaviour option, {d} differ, {e} errors; \
+         {} unexpected; report: {}",
         summary.cases,
         summary.unexpected.len(),
         args.report.join("index.html").display()

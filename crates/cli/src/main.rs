@@ -12,6 +12,7 @@
 
 mod animate;
 mod backend;
+mod behaviours;
 mod bench;
 mod caps;
 mod conform;
@@ -28,6 +29,7 @@ use std::process::ExitCode;
 
 use clap::error::ErrorKind;
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use pointillist_core::behaviour::BehaviourSetting;
 use pointillist_core::caps::Caps;
 
 /// The long description of `pointillist --help`.
@@ -138,7 +140,32 @@ enum Command {
     /// Replay scenes on a real Direct3D 9 device and compare its pixels with pointillist's.
     #[command(long_about = CONFORM_LONG_ABOUT, after_help = CONFORM_EXAMPLES)]
     Conform(ConformArgs),
+    /// List the device behaviour switches: where real D3D9 devices differ, and the evidence.
+    #[command(long_about = BEHAVIOURS_LONG_ABOUT)]
+    Behaviours(BehavioursArgs),
 }
+
+/// The long description of `pointillist behaviours --help`.
+const BEHAVIOURS_LONG_ABOUT: &str = "\
+List the device behaviour switches: rules on which real D3D9 devices differ, or no record
+decides, and no cap tells them apart (docs/spec/SPEC.md, \"Device behaviours\"). Each has named
+options and a default, the option with the strongest evidence: hardware (a record of real
+Windows drivers), microsoft-driver, documented, implementations (Wine and DXVK agree) or choice.
+
+A scene's [behaviour] table sets them (NAME = \"OPTION\"); render, animate and conform take
+--behaviour NAME=OPTION, repeatable, over the scene's.";
+
+/// Arguments of `pointillist behaviours`.
+#[derive(Debug, Args)]
+pub struct BehavioursArgs {
+    /// Print a JSON array of objects with the keys name, options, default, evidence, sources.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--behaviour NAME=OPTION`: a device behaviour switch (`pointillist behaviours` lists them).
+const BEHAVIOUR_HELP: &str = "Set a device behaviour switch over the scene's [behaviour] table \
+(repeatable; `pointillist behaviours` lists them)";
 
 /// The long description of `pointillist export-calls --help`.
 const EXPORT_LONG_ABOUT: &str = "\
@@ -235,6 +262,9 @@ pub struct ConformArgs {
     /// The known differences of the device (a TOML expectations file).
     #[arg(long, value_name = "FILE")]
     pub expect: Option<PathBuf>,
+    /// Device behaviour switches set over the scene's `[behaviour]`.
+    #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
+    pub behaviours: Vec<BehaviourSetting>,
 }
 
 /// The long description of `pointillist animate --help`.
@@ -318,6 +348,9 @@ pub struct AnimateArgs {
     /// How hard PNG and APNG output is compressed: the same pixels, smaller files, more time.
     #[arg(long, value_enum, ignore_case = true, default_value_t = PngCompression::Fast)]
     pub compression: PngCompression,
+    /// Device behaviour switches set over the scene's `[behaviour]`.
+    #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
+    pub behaviours: Vec<BehaviourSetting>,
 }
 
 /// Arguments of `pointillist view`.
@@ -383,6 +416,9 @@ pub struct RenderArgs {
     /// How hard the PNG is compressed: the same pixels, smaller files, more time.
     #[arg(long, value_enum, ignore_case = true, default_value_t = PngCompression::Fast)]
     pub compression: PngCompression,
+    /// Device behaviour switches set over the scene's `[behaviour]`.
+    #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
+    pub behaviours: Vec<BehaviourSetting>,
 }
 
 /// `--compression`: pointillist_image::png::Compression (docs/PERFORMANCE.md).
@@ -530,6 +566,7 @@ fn main() -> ExitCode {
         Command::View(args) => view(args),
         Command::ExportCalls(args) => conform::run_export(args),
         Command::Conform(args) => return conform::run_conform(args),
+        Command::Behaviours(args) => behaviours::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use pointillist_core::Device;
+use pointillist_core::{Device, DeviceDesc};
 use pointillist_image::output::Destination;
 
 use crate::{RenderArgs, backend};
@@ -15,7 +15,11 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
     let dest = check_output(&args.output, &scene.inputs)?;
     let scene_name = args.scene.display();
-    let mut device = Device::new(backend::create(args.backend)?, scene.device_desc())
+    let desc = DeviceDesc {
+        behaviours: scene.behaviours.with(&args.behaviours),
+        ..scene.device_desc()
+    };
+    let mut device = Device::new(backend::create(args.backend)?, desc)
         .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
     let mut particles = None;
     if scene.is_animated() || args.frame.is_some() {

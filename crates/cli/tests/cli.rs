@@ -630,3 +630,82 @@ fn hostile_scenes_are_one_line_with_file_line_and_key_and_leave_outputs_untouche
         dir.listing()
     );
 }
+
+/// `pointillist behaviours --json`: an array of every switch with the documented keys; the
+/// text form names each with its default and evidence.
+#[test]
+fn behaviours_lists_every_switch_as_text_and_json() {
+    let out = pointillist(&["behaviours", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    for needle in [
+        "\"name\": \"specular_fog\"",
+        "\"options\": [",
+        "\"default\": \"unclamped\"",
+        "\"evidence\": \"implementations\"",
+        "\"sources\": [",
+        "\"name\": \"minimum_size\"",
+        "\"evidence\": \"hardware\"",
+    ] {
+        assert!(text.contains(needle), "lacks {needle}:\n{text}");
+    }
+    let out = pointillist(&["behaviours"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("fog_without_specular (SPEC 9.2)"), "{text}");
+    assert!(text.contains("  fogged (default): "), "{text}");
+}
+
+/// `render --behaviour`: an over-bright specular sum fogged unclamped by default, clamped with
+/// `--behaviour specular_fog=clamped`, which overrides the scene's `[behaviour]`; bad
+/// settings are one line naming what there is.
+#[test]
+fn render_takes_behaviour_switches_over_the_scene() {
+    let dir = TempDir::new("behaviour");
+    let body = "format = 1\n[target]\nwidth = 4\nheight = 4\n[states]\nPOINTSIZE = 2.0\n\
+        FOGENABLE = true\nFOGCOLOR = 0xFF000000\nSPECULARENABLE = true\n[[draw]]\n\
+        fvf = \"XYZRHW | DIFFUSE | SPECULAR\"\n\
+        vertices = [[2.0, 2.0, 0.5, 1.0, 0xFFC08000, 0x6620A000]]\n";
+    let scene = dir.write("s.toml", body);
+    let png = dir.path("s.png");
+    let green = |args: &[&str]| {
+        let mut all = vec!["render", path_arg(&scene), "-o", path_arg(&png)];
+        all.extend_from_slice(args);
+        let out = pointillist(&all);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let (_, _, pixels) = read_rgba8_png(&png);
+        (pixels[2 * 4 + 2] >> 8) & 0xFF
+    };
+    assert_eq!(green(&[]), 0x73);
+    assert_eq!(green(&["--behaviour", "specular_fog=clamped"]), 0x66);
+    let clamped_scene = body.replace(
+        "[states]",
+        "[behaviour]\nspecular_fog = \"clamped\"\n[states]",
+    );
+    fs::write(&scene, clamped_scene).unwrap();
+    assert_eq!(green(&[]), 0x66);
+    assert_eq!(green(&["--behaviour", "specular_fog=unclamped"]), 0x73);
+    for (arg, says) in [
+        ("specular_fog", "is not NAME=OPTION"),
+        ("fog=on", "unknown behaviour `fog`"),
+        (
+            "specular_fog=maybe",
+            "unknown option `maybe` of behaviour `specular_fog`",
+        ),
+    ] {
+        let out = pointillist(&[
+            "render",
+            path_arg(&scene),
+            "-o",
+            path_arg(&png),
+            "--behaviour",
+            arg,
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{arg}");
+        let err = stderr(&out);
+        assert!(
+            err.contains(says) && err.lines().count() == 1,
+            "{arg}: {err}"
+        );
+    }
+}

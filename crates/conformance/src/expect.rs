@@ -2,9 +2,11 @@
 //! "Expectations"). A case the file does not list is expected to match; a listed case is
 //! expected to differ (or to fail), with what D3D9 does and what the implementation does.
 
+use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
 
+use pointillist_core::behaviour::BehaviourSetting;
 use serde::Deserialize;
 
 /// The status a case ends with.
@@ -13,6 +15,9 @@ use serde::Deserialize;
 pub enum Status {
     /// The device drew pointillist's image, within the tolerance.
     Match,
+    /// It drew pointillist's image under another option of a device behaviour switch: a
+    /// finding about the device, not a departure.
+    Option,
     /// It drew something else.
     Differs,
     /// The case could not be compared: a call failed on the device, or the scene did not load.
@@ -23,6 +28,7 @@ impl fmt::Display for Status {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             Status::Match => "match",
+            Status::Option => "option",
             Status::Differs => "differs",
             Status::Error => "error",
         })
@@ -51,6 +57,10 @@ pub struct Expected {
 pub struct Expectations {
     /// The implementation the file describes (shown in the report).
     pub implementation: Option<String>,
+    /// `[behaviour]`: the option of each device behaviour switch the implementation shows; a
+    /// case that matches only under such an option is as expected.
+    #[serde(default, rename = "behaviour")]
+    pub behaviours: BTreeMap<String, String>,
     /// The known differences.
     #[serde(default, rename = "case")]
     pub cases: Vec<Expected>,
@@ -72,10 +82,21 @@ impl Expectations {
             let at = line.map(|l| format!(":{l}")).unwrap_or_default();
             format!("{}{at}: {}", path.display(), e.message().trim())
         })?;
+        for (name, option) in &expectations.behaviours {
+            let setting = format!("{name}={option}");
+            setting
+                .parse::<BehaviourSetting>()
+                .map_err(|e| format!("{}: [behaviour] {name}: {e}", path.display()))?;
+        }
         for (i, c) in expectations.cases.iter().enumerate() {
             let fail = |m: &str| Err(format!("{}: case[{i}] ({}): {m}", path.display(), c.case));
             if c.status == Status::Match {
                 return fail("status = \"match\" is the default; list only differences and errors");
+            }
+            if c.status == Status::Option {
+                return fail(
+                    "status = \"option\" is no departure; name the device's option in [behaviour]",
+                );
             }
             if c.d3d9.trim().is_empty() || c.implementation.trim().is_empty() {
                 return fail("`d3d9` and `implementation` must explain the difference");
@@ -95,11 +116,32 @@ impl Expectations {
         self.cases.iter().find(|c| c.case == case)
     }
 
-    /// Whether `case` ending with `status` (and `pixels` pixels differing) is as expected;
+    /// Whether `case` ending with `status` (and `pixels` pixels differing; for
+    /// [`Status::Option`], matching under the switch and option `matching`) is as expected;
     /// `Err` says what is unexpected.
-    pub fn check(&self, case: &str, status: Status, pixels: u64) -> Result<(), String> {
+    pub fn check(
+        &self,
+        case: &str,
+        status: Status,
+        pixels: u64,
+        matching: Option<(&str, &str)>,
+    ) -> Result<(), String> {
         match (self.get(case), status) {
             (None, Status::Match) => Ok(()),
+            (None, Status::Option) => {
+                let (name, option) = matching.unwrap_or_default();
+                match self.behaviours.get(name) {
+                    Some(o) if o == option => Ok(()),
+                    Some(o) => Err(format!(
+                        "unexpected: matches with {name} = \"{option}\", the expectations' \
+                         [behaviour] say \"{o}\""
+                    )),
+                    None => Err(format!(
+                        "unexpected: matches with {name} = \"{option}\", which the expectations' \
+                         [behaviour] do not name"
+                    )),
+                }
+            }
             (None, s) => Err(format!("unexpected: {s} (expected to match)")),
             (Some(e), s) if s != e.status => Err(format!(
                 "unexpected: {s} (expected to be {}: update the expectations if this is a fix)",
@@ -140,18 +182,52 @@ implementation = "y"
     fn listed_cases_must_end_as_listed_and_others_must_match() {
         let e = Expectations::parse(FILE, Path::new("wine.toml")).unwrap();
         assert_eq!(e.implementation.as_deref(), Some("Wine 8.0"));
-        assert!(e.check("other", Status::Match, 0).is_ok());
-        assert!(e.check("other", Status::Differs, 3).is_err());
-        assert!(e.check("sub_pixel", Status::Differs, 4).is_ok());
-        let changed = e.check("sub_pixel", Status::Differs, 5).unwrap_err();
+        assert!(e.check("other", Status::Match, 0, None).is_ok());
+        assert!(e.check("other", Status::Differs, 3, None).is_err());
+        assert!(e.check("sub_pixel", Status::Differs, 4, None).is_ok());
+        let changed = e.check("sub_pixel", Status::Differs, 5, None).unwrap_err();
         assert!(
             changed.contains("5 pixels") && changed.contains("say 4"),
             "{changed}"
         );
-        let fixed = e.check("sub_pixel", Status::Match, 0).unwrap_err();
+        let fixed = e.check("sub_pixel", Status::Match, 0, None).unwrap_err();
         assert!(fixed.contains("expected to be differs"), "{fixed}");
-        assert!(e.check("lit", Status::Error, 0).is_ok());
-        assert!(e.check("lit", Status::Differs, 1).is_err());
+        assert!(e.check("lit", Status::Error, 0, None).is_ok());
+        assert!(e.check("lit", Status::Differs, 1, None).is_err());
+    }
+
+    #[test]
+    fn an_option_case_is_expected_when_the_behaviour_table_names_its_option() {
+        let text = format!("{FILE}\n[behaviour]\nspecular_fog = \"clamped\"\n");
+        let e = Expectations::parse(&text, Path::new("wine.toml")).unwrap();
+        let clamped = Some(("specular_fog", "clamped"));
+        assert!(e.check("other", Status::Option, 9, clamped).is_ok());
+        let other = e.check(
+            "other",
+            Status::Option,
+            9,
+            Some(("specular_fog", "unclamped")),
+        );
+        assert!(other.unwrap_err().contains("say \"clamped\""));
+        let unnamed = e.check(
+            "other",
+            Status::Option,
+            9,
+            Some(("minimum_size", "one_pixel")),
+        );
+        assert!(unnamed.unwrap_err().contains("do not name"));
+        // A listed departure that now matches under an option is a change to look at.
+        assert!(e.check("sub_pixel", Status::Option, 4, clamped).is_err());
+        let p = Path::new("wine.toml");
+        let bad = Expectations::parse("[behaviour]\nspecular_fog = \"maybe\"\n", p);
+        assert!(bad.unwrap_err().contains("unknown option `maybe`"));
+        let listed =
+            "[[case]]\ncase = \"a\"\nstatus = \"option\"\nd3d9 = \"x\"\nimplementation = \"y\"";
+        assert!(
+            Expectations::parse(listed, p)
+                .unwrap_err()
+                .contains("no departure")
+        );
     }
 
     #[test]

@@ -16,7 +16,7 @@ use pointillist_core::light::{Light, Material};
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState};
 use pointillist_core::texture::Texture;
-use pointillist_core::tolerance::{Tolerance, draw_tolerance};
+use pointillist_core::tolerance::{Tolerance, device_tolerance};
 use pointillist_core::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, TransformType, Viewport,
 };
@@ -128,6 +128,8 @@ impl Recorder {
         let DeviceState {
             api: _,
             caps: _,
+            // A device's behaviour is its own: no call sets it.
+            behaviours: _,
             target_width: _,
             target_height: _,
             render_states,
@@ -246,7 +248,7 @@ impl Backend for Recorder {
 
     fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
         let (state, fvf) = (draw.state, draw.fvf);
-        self.tolerance = self.tolerance.max(draw_tolerance(draw));
+        self.tolerance = self.tolerance.max(device_tolerance(draw));
         self.draws += 1;
         if let Some(old) = self.written.take() {
             self.write_changes(&old, state);

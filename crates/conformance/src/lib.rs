@@ -14,15 +14,19 @@
 //!   rendered is an `error` case; only a run that cannot happen at all is an `Err`.
 
 pub mod calls;
+pub mod classify;
 pub mod compare;
 pub mod expect;
 pub mod export;
 pub mod report;
 pub mod runner;
 
+use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use pointillist_core::Behaviours;
+use pointillist_core::behaviour::{BehaviourSet, BehaviourSetting};
 use pointillist_core::caps::Caps;
 use pointillist_core::color::rgba8_to_argb;
 use pointillist_core::{Device, DeviceDesc, RenderTarget};
@@ -108,9 +112,10 @@ pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
     }
 }
 
-/// pointillist's image of `scene` (its frame 0 when it moves) on the CPU backend with `caps`.
-pub fn render(scene: &Scene, caps: Caps) -> Result<Image, String> {
-    let target = render_target(scene, caps)?;
+/// pointillist's image of `scene` (its frame 0 when it moves) on the CPU backend with `caps`
+/// and the device behaviours `behaviours`.
+pub fn render(scene: &Scene, caps: Caps, behaviours: Behaviours) -> Result<Image, String> {
+    let (target, _) = render_target(scene, caps, behaviours)?;
     Ok(Image {
         width: target.width,
         height: target.height,
@@ -118,11 +123,16 @@ pub fn render(scene: &Scene, caps: Caps) -> Result<Image, String> {
     })
 }
 
-/// [`render`]'s target, depth buffer included.
-fn render_target(scene: &Scene, caps: Caps) -> Result<RenderTarget, String> {
+/// [`render`]'s target, depth buffer included, and the behaviour switches its draws read.
+fn render_target(
+    scene: &Scene,
+    caps: Caps,
+    behaviours: Behaviours,
+) -> Result<(RenderTarget, BehaviourSet), String> {
     let name = scene.file.display();
     let desc = DeviceDesc {
         caps,
+        behaviours,
         ..scene.device_desc()
     };
     let mut device = Device::new(CpuBackend::new(), desc)
@@ -136,8 +146,10 @@ fn render_target(scene: &Scene, caps: Caps) -> Result<RenderTarget, String> {
                 .map_err(|e| e.to_string())?;
         }
     }
+    let read = device.behaviours_read();
     device
         .read_target()
+        .map(|t| (t, read))
         .map_err(|e| format!("{name}: cannot read the render target: {e}"))
 }
 
@@ -152,6 +164,8 @@ pub struct Options {
     pub report: PathBuf,
     /// The known differences, if any.
     pub expect: Option<PathBuf>,
+    /// Device behaviour switches over each scene's `[behaviour]` (`--behaviour`).
+    pub behaviours: Vec<BehaviourSetting>,
 }
 
 /// How a run ended.
@@ -159,8 +173,11 @@ pub struct Options {
 pub struct Summary {
     /// Cases run.
     pub cases: usize,
-    /// Cases per status: match, differs, error.
-    pub counts: [usize; 3],
+    /// Cases per status: match, option, differs, error.
+    pub counts: [usize; 4],
+    /// The option of each behaviour switch the device's cases showed (`None`: none decided
+    /// it, or they disagree).
+    pub behaviours: BTreeMap<&'static str, Option<&'static str>>,
     /// Each case whose outcome is not the expected one, with what is unexpected.
     pub unexpected: Vec<(String, String)>,
     /// Things worth saying that are not failures (an expectation naming no case of the run).
@@ -252,7 +269,13 @@ fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
 }
 
 /// Compares one case with what the device drew and writes its images.
-fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Path) -> CaseReport {
+fn judge(
+    p: &Prepared,
+    outcome: Option<&Outcome>,
+    device: &DeviceInfo,
+    dir: &Path,
+    settings: &[BehaviourSetting],
+) -> CaseReport {
     let mut r = CaseReport {
         name: p.case.name.clone(),
         scene: p.case.scene.display().to_string(),
@@ -267,6 +290,8 @@ fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Pat
         explanation: None,
         images: None,
         facts: None,
+        matching: None,
+        shown: BTreeMap::new(),
     };
     let (scene, tolerance) = match &p.scene {
         Ok(s) => s,
@@ -289,14 +314,16 @@ fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Pat
         Some(Outcome::Drawn(image)) => image,
     };
     let caps = device_caps(device, &scene.caps);
-    let (ours, target) = match render_target(scene, caps) {
-        Ok(t) => (
+    let behaviours = scene.behaviours.with(settings);
+    let (ours, target, read) = match render_target(scene, caps, behaviours) {
+        Ok((t, read)) => (
             Image {
                 width: t.width,
                 height: t.height,
                 rgba: t.to_rgba8(),
             },
             t,
+            read,
         ),
         Err(e) => {
             r.message = format!("pointillist: {e}");
@@ -331,6 +358,25 @@ fn judge(p: &Prepared, outcome: Option<&Outcome>, device: &DeviceInfo, dir: &Pat
             cmp.max_channel_difference
         );
     }
+    let found = classify::classify(
+        behaviours,
+        read,
+        &ours,
+        theirs,
+        *tolerance,
+        r.status == Status::Match,
+        |b| render(scene, caps, b),
+    );
+    if let Some((name, option)) = found.matching {
+        r.status = Status::Option;
+        r.message = format!(
+            "matches with the behaviour {name} = \"{option}\", an option of a switch where \
+             devices differ; under the scene's own behaviours {}",
+            r.message
+        );
+    }
+    r.matching = found.matching;
+    r.shown = found.shown;
     if let Some(note) = caps_note(&scene.caps, &caps) {
         r.message = format!("{}; {note}", r.message);
     }
@@ -398,8 +444,9 @@ pub fn conform(opts: &Options) -> Result<Summary, String> {
             captures.outcomes.get(&p.case.name),
             &captures.device,
             dir,
+            &opts.behaviours,
         );
-        r.verdict = expectations.check(&r.name, r.status, r.pixels_differing);
+        r.verdict = expectations.check(&r.name, r.status, r.pixels_differing, r.matching);
         r.explanation = expectations
             .get(&r.name)
             .map(|e| (e.d3d9.clone(), e.implementation.clone()));
@@ -417,16 +464,21 @@ pub fn conform(opts: &Options) -> Result<Summary, String> {
             ));
         }
     }
+    summary.behaviours = classify::profile(reports.iter().map(|r| &r.shown));
     let write = |name: &str, text: String| {
         pointillist_image::write_file_atomic(&dir.join(name), text.as_bytes())
             .map_err(|e| e.to_string())
     };
-    write("report.json", report::json(&captures.device, &reports))?;
+    write(
+        "report.json",
+        report::json(&captures.device, &summary.behaviours, &reports),
+    )?;
     write(
         "index.html",
         report::html(
             &captures.device,
             expectations.implementation.as_deref(),
+            &summary.behaviours,
             &reports,
         ),
     )?;

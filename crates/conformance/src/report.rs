@@ -8,6 +8,8 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use pointillist_core::behaviour::BEHAVIOURS;
+
 use crate::expect::Status;
 use crate::runner::DeviceInfo;
 
@@ -58,6 +60,10 @@ pub struct CaseReport {
     /// Whether the device's image holds the case's own `[[case.expect]]` facts (`None` for a
     /// scene without a `[case]` table or without a device image); `Err` lists what fails.
     pub facts: Option<Result<(), String>>,
+    /// For [`Status::Option`]: the behaviour switch and the option under which the case matches.
+    pub matching: Option<(&'static str, &'static str)>,
+    /// The behaviour switches this case decides, with the option the device showed.
+    pub shown: BTreeMap<&'static str, &'static str>,
 }
 
 #[derive(Serialize)]
@@ -74,6 +80,8 @@ struct JsonDevice<'a> {
 struct JsonCase<'a> {
     scene: &'a str,
     status: Status,
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    options: BTreeMap<&'static str, &'static str>,
     pixels_differing: u64,
     max_channel_difference: u8,
     message: &'a str,
@@ -82,11 +90,17 @@ struct JsonCase<'a> {
 #[derive(Serialize)]
 struct JsonReport<'a> {
     device: JsonDevice<'a>,
+    behaviours: &'a BTreeMap<&'static str, Option<&'static str>>,
     cases: Vec<JsonCase<'a>>,
 }
 
-/// `report.json`.
-pub fn json(device: &DeviceInfo, cases: &[CaseReport]) -> String {
+/// `report.json`: the device, the option of each behaviour switch its cases showed (`null`
+/// when none decided it or they disagree), and every case.
+pub fn json(
+    device: &DeviceInfo,
+    behaviours: &BTreeMap<&'static str, Option<&'static str>>,
+    cases: &[CaseReport],
+) -> String {
     let report = JsonReport {
         device: JsonDevice {
             description: &device.description,
@@ -96,11 +110,13 @@ pub fn json(device: &DeviceInfo, cases: &[CaseReport]) -> String {
             w_fog: device.w_fog,
             max_active_lights: device.max_active_lights,
         },
+        behaviours,
         cases: cases
             .iter()
             .map(|c| JsonCase {
                 scene: &c.scene,
                 status: c.status,
+                options: c.matching.into_iter().collect(),
                 pixels_differing: c.pixels_differing,
                 max_channel_difference: c.max_channel_difference,
                 message: &c.message,
@@ -146,6 +162,38 @@ pub fn spec_rules() -> BTreeMap<(u32, u32), String> {
     rules
 }
 
+/// The evidence grade of each rule of SPEC.md that states one: the first word after its first
+/// `Evidence:` or `Evidence (what):` ("hardware", "microsoft-driver", "documented",
+/// "implementations", "choice").
+pub fn spec_evidence() -> BTreeMap<(u32, u32), String> {
+    let mut grades = BTreeMap::new();
+    let (mut section, mut item) = (0, 0);
+    for line in SPEC.lines() {
+        if let Some(rest) = line.strip_prefix("## ")
+            && let Some((n, _)) = rest.split_once(". ")
+            && let Ok(n) = n.parse()
+        {
+            (section, item) = (n, 0);
+        } else if let Some((n, _)) = line.split_once(". ")
+            && let Ok(n) = n.parse::<u32>()
+        {
+            item = n;
+        } else if let Some((_, rest)) = line.split_once("Evidence")
+            && let Some((_, rest)) = rest.split_once(": ")
+            && section > 0
+        {
+            let grade: String = rest
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '-')
+                .collect();
+            if !grade.is_empty() {
+                grades.entry((section, item)).or_insert(grade);
+            }
+        }
+    }
+    grades
+}
+
 /// A rule citation as a key: "2.3" is (2, 3), "4" is (4, 0).
 fn rule_key(rule: &str) -> Option<(u32, u32)> {
     let (s, i) = rule.split_once('.').unwrap_or((rule, "0"));
@@ -168,6 +216,7 @@ td, th { border: 1px solid #ccc; padding: 4px 8px; vertical-align: top; text-ali
 th { background: #f2f2f2; }
 .num { text-align: right; }
 .match { color: #176b2c; font-weight: bold; }
+.option { color: #1a56a8; font-weight: bold; }
 .differs { color: #a15c00; font-weight: bold; }
 .error { color: #b00020; font-weight: bold; }
 .bad { background: #ffe3e3; }
@@ -196,9 +245,57 @@ fn status_cell(c: &CaseReport) -> String {
     s
 }
 
+/// The top of the page: each behaviour switch, the option the device's cases showed, the
+/// default and its evidence.
+fn behaviour_profile(
+    h: &mut String,
+    behaviours: &BTreeMap<&'static str, Option<&'static str>>,
+    cases: &[CaseReport],
+) {
+    h.push_str(
+        "<h2>Device behaviours</h2>\n<p>Where real D3D9 devices differ (docs/spec/SPEC.md, \
+         \"Device behaviours\"): the option this device's cases showed, and pointillist's default \
+         with its evidence.</p>\n<table>\n<tr><th>switch</th><th>this device</th>\
+         <th>cases deciding</th><th>default</th><th>evidence for the default</th></tr>\n",
+    );
+    for def in &BEHAVIOURS {
+        let deciding = cases
+            .iter()
+            .filter(|c| c.shown.contains_key(def.name))
+            .count();
+        let shown = match behaviours.get(def.name).copied().flatten() {
+            Some(o) if o == def.default_name() => {
+                format!("<span class=\"match\">{}</span>", esc(o))
+            }
+            Some(o) => format!("<span class=\"option\">{}</span>", esc(o)),
+            None if deciding > 0 => "<span class=\"differs\">cases disagree</span>".to_string(),
+            None => "not decided".to_string(),
+        };
+        let _ = writeln!(
+            h,
+            "<tr><td><b>{}</b><br><span class=\"rules\">{} ({})</span></td><td>{shown}</td>\
+             <td class=\"num\">{deciding}</td><td>{}</td><td>{}<br><span class=\"rules\">{}\
+             </span></td></tr>",
+            esc(def.name),
+            esc(def.summary),
+            esc(def.rule),
+            esc(def.default_name()),
+            esc(def.evidence.name()),
+            esc(&def.sources.join("; "))
+        );
+    }
+    h.push_str("</table>\n");
+}
+
 /// `index.html`.
-pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseReport]) -> String {
+pub fn html(
+    device: &DeviceInfo,
+    implementation: Option<&str>,
+    behaviours: &BTreeMap<&'static str, Option<&'static str>>,
+    cases: &[CaseReport],
+) -> String {
     let rules = spec_rules();
+    let evidence = spec_evidence();
     let count = |s: Status| cases.iter().filter(|c| c.status == s).count();
     let unexpected = cases.iter().filter(|c| c.verdict.is_err()).count();
     let mut h = String::new();
@@ -212,9 +309,11 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
     let _ = writeln!(
         h,
         "<p class=\"verdict\">{} cases: <span class=\"match\">{} match</span>, \
+         <span class=\"option\">{} match under another behaviour option</span>, \
          <span class=\"differs\">{} differ</span>, <span class=\"error\">{} errors</span>. {}</p>",
         cases.len(),
         count(Status::Match),
+        count(Status::Option),
         count(Status::Differs),
         count(Status::Error),
         if unexpected == 0 {
@@ -223,6 +322,7 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
             format!("<span class=\"error\">{unexpected} unexpected outcomes.</span>")
         }
     );
+    behaviour_profile(&mut h, behaviours, cases);
     h.push_str("<h2>Device</h2>\n<table class=\"device\">\n");
     let mut row = |k: &str, v: &str| {
         let _ = writeln!(h, "<tr><td>{}</td><td>{}</td></tr>", esc(k), esc(v));
@@ -261,18 +361,18 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
     h.push_str("</table>\n<p>pointillist renders every case with these caps.</p>\n");
 
     // The summary: per rule cited, grouped by SPEC section.
-    let mut by_rule: BTreeMap<(u32, u32), [usize; 4]> = BTreeMap::new();
+    let mut by_rule: BTreeMap<(u32, u32), [usize; 5]> = BTreeMap::new();
     for c in cases {
         for key in c.rules.iter().filter_map(|r| rule_key(r)) {
             let e = by_rule.entry(key).or_default();
             e[c.status as usize] += 1;
-            e[3] += usize::from(c.verdict.is_err());
+            e[4] += usize::from(c.verdict.is_err());
         }
     }
     let uncited = cases.iter().filter(|c| c.rules.is_empty()).count();
     h.push_str(
-        "<h2>By SPEC rule</h2>\n<table>\n<tr><th>rule</th><th>cases</th><th>match</th>\
-         <th>differ</th><th>error</th><th>unexpected</th></tr>\n",
+        "<h2>By SPEC rule</h2>\n<table>\n<tr><th>rule</th><th>evidence</th><th>cases</th>\
+         <th>match</th><th>option</th><th>differ</th><th>error</th><th>unexpected</th></tr>\n",
     );
     let mut last_section = 0;
     for (&(s, i), n) in &by_rule {
@@ -281,7 +381,7 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
             let title = rules
                 .get(&(s, 0))
                 .map_or("(not in SPEC.md)", String::as_str);
-            let _ = writeln!(h, "<tr><th colspan=\"6\">{s}. {}</th></tr>", esc(title));
+            let _ = writeln!(h, "<tr><th colspan=\"8\">{s}. {}</th></tr>", esc(title));
         }
         let name = if i == 0 {
             format!("{s}")
@@ -291,24 +391,28 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
         let label = rules
             .get(&(s, i))
             .map_or("(not in SPEC.md)", String::as_str);
+        let grade = evidence.get(&(s, i)).map_or("", String::as_str);
         let _ = writeln!(
             h,
-            "<tr{}><td><b>{name}</b> {}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
-             <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
-            if n[3] > 0 { " class=\"bad\"" } else { "" },
+            "<tr{}><td><b>{name}</b> {}</td><td>{}</td><td class=\"num\">{}</td>\
+             <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
+             <td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
+            if n[4] > 0 { " class=\"bad\"" } else { "" },
             esc(label),
-            n[0] + n[1] + n[2],
+            esc(grade),
+            n[0] + n[1] + n[2] + n[3],
             n[0],
             n[1],
             n[2],
-            n[3]
+            n[3],
+            n[4]
         );
     }
     if uncited > 0 {
         let _ = writeln!(
             h,
             "<tr><td>(cases naming no rule)</td><td class=\"num\">{uncited}</td>\
-             <td colspan=\"4\"></td></tr>"
+             <td colspan=\"6\"></td></tr>"
         );
     }
     h.push_str("</table>\n");
@@ -336,10 +440,18 @@ pub fn html(device: &DeviceInfo, implementation: Option<&str>, cases: &[CaseRepo
         }
         let _ = write!(h, "<br><code>{}</code>", esc(&c.scene));
         if !c.rules.is_empty() {
+            let cited: Vec<String> = c
+                .rules
+                .iter()
+                .map(|r| match rule_key(r).and_then(|k| evidence.get(&k)) {
+                    Some(grade) => format!("{r} ({grade})"),
+                    None => r.clone(),
+                })
+                .collect();
             let _ = write!(
                 h,
                 "<div class=\"rules\">SPEC {}</div>",
-                esc(&c.rules.join(", "))
+                esc(&cited.join(", "))
             );
         }
         let _ = write!(h, "<p>{}</p>", esc(&c.message));
@@ -400,5 +512,26 @@ mod tests {
         assert_eq!(rule_key("2.3"), Some((2, 3)));
         assert_eq!(rule_key("6"), Some((6, 0)));
         assert_eq!(rule_key("x"), None);
+    }
+
+    #[test]
+    fn every_rule_states_its_evidence() {
+        let grades = spec_evidence();
+        let words = [
+            "hardware",
+            "microsoft-driver",
+            "documented",
+            "implementations",
+            "choice",
+        ];
+        for (key, title) in spec_rules() {
+            if key.1 == 0 {
+                continue;
+            }
+            let grade = grades
+                .get(&key)
+                .unwrap_or_else(|| panic!("SPEC {key:?} {title}"));
+            assert!(words.contains(&grade.as_str()), "SPEC {key:?}: {grade}");
+        }
     }
 }

@@ -161,7 +161,7 @@ fn every_scene_exported_and_replayed_is_its_render() {
         for case in find_cases(&[dir]).unwrap() {
             let scene = pointillist_scene::load(&case.scene).unwrap();
             let ex = export::export(&scene, scene.caps, None).unwrap();
-            let ours = render(&scene, scene.caps).unwrap();
+            let ours = render(&scene, scene.caps, scene.behaviours).unwrap();
             let replayed = replay_on_pointillist(&ex.stream, scene.caps);
             assert!(ours == replayed, "{}", case.scene.display());
             assert!(
@@ -247,7 +247,12 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     fs::write(caps_dir.join("device.txt"), DEVICE_TXT).unwrap();
     let load = |n: &str| pointillist_scene::load(&scenes.join(format!("{n}.toml"))).unwrap();
     let big_scene = load("big");
-    let at_64 = render(&big_scene, device_caps(&device, &big_scene.caps)).unwrap();
+    let at_64 = render(
+        &big_scene,
+        device_caps(&device, &big_scene.caps),
+        Default::default(),
+    )
+    .unwrap();
     let covered = at_64.rgba.chunks(4).filter(|p| p[0] == 0xFF).count();
     assert_eq!(
         covered,
@@ -255,7 +260,7 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
         "a 64-pixel point covers the whole 16x16 target"
     );
     write_png(&caps_dir.join("big.png"), &at_64);
-    let mut changed = render(&load("changed"), Caps::reference()).unwrap();
+    let mut changed = render(&load("changed"), Caps::reference(), Default::default()).unwrap();
     changed.rgba[(8 * 16 + 8) * 4 + 1] ^= 0x10;
     write_png(&caps_dir.join("changed.png"), &changed);
     fs::write(
@@ -281,10 +286,11 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
         runner: Runner::Captures(caps_dir.clone()),
         report: report.clone(),
         expect: Some(expect),
+        behaviours: Vec::new(),
     })
     .unwrap();
     assert_eq!(summary.cases, 5);
-    assert_eq!(summary.counts, [1, 1, 3]);
+    assert_eq!(summary.counts, [1, 0, 1, 3]);
     let unexpected: Vec<&str> = summary.unexpected.iter().map(|u| u.0.as_str()).collect();
     assert_eq!(unexpected, ["broken", "missing"]);
     assert_eq!(summary.warnings.len(), 1, "{:?}", summary.warnings);
@@ -372,6 +378,107 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// A device that fogs an over-bright specular sum after clamping it (the `specular_fog`
+/// behaviour `clamped`): the case is no departure but a finding about the device: status
+/// `option` with its option, the device's profile in report.json and on the page, and as
+/// expected when the expectations' `[behaviour]` names that option; a plain point decides
+/// nothing.
+#[test]
+fn a_device_taking_another_behaviour_option_is_classified() {
+    let dir = temp("option");
+    let scenes = dir.join("scenes");
+    fs::create_dir_all(&scenes).unwrap();
+    let fogged = "format = 1\n[target]\nwidth = 16\nheight = 16\n[states]\nPOINTSIZE = 3.0\n\
+        FOGENABLE = true\nFOGCOLOR = 0xFF000000\nSPECULARENABLE = true\n[[draw]]\n\
+        fvf = \"XYZRHW | DIFFUSE | SPECULAR\"\n\
+        vertices = [[8.0, 8.0, 0.5, 1.0, 0xFFC08000, 0x6620A000]]\n";
+    fs::write(scenes.join("fogged.toml"), fogged).unwrap();
+    fs::write(scenes.join("plain.toml"), point_scene(3.0)).unwrap();
+    let caps_dir = dir.join("captures");
+    fs::create_dir_all(&caps_dir).unwrap();
+    fs::write(caps_dir.join("device.txt"), DEVICE_TXT).unwrap();
+    let device = DeviceInfo::parse(DEVICE_TXT, Path::new("device.txt")).unwrap();
+    let load = |n: &str| pointillist_scene::load(&scenes.join(format!("{n}.toml"))).unwrap();
+    let mut clamped = pointillist_core::Behaviours::default();
+    clamped.set("specular_fog", "clamped").unwrap();
+    let scene = load("fogged");
+    let theirs = render(&scene, device_caps(&device, &scene.caps), clamped).unwrap();
+    let ours = render(
+        &scene,
+        device_caps(&device, &scene.caps),
+        Default::default(),
+    )
+    .unwrap();
+    assert_ne!(theirs, ours, "the two options draw the case differently");
+    write_png(&caps_dir.join("fogged.png"), &theirs);
+    let plain = load("plain");
+    let plain_image = render(&plain, device_caps(&device, &plain.caps), clamped).unwrap();
+    write_png(&caps_dir.join("plain.png"), &plain_image);
+    fs::write(caps_dir.join("results.txt"), "fogged\tok\nplain\tok\n").unwrap();
+    let run = |expect: &str, report: &str| {
+        let file = dir.join(format!("{report}.toml"));
+        fs::write(&file, expect).unwrap();
+        conform(&Options {
+            paths: vec![scenes.clone()],
+            runner: Runner::Captures(caps_dir.clone()),
+            report: dir.join(report),
+            expect: Some(file),
+            behaviours: Vec::new(),
+        })
+        .unwrap()
+    };
+    let named = run("[behaviour]\nspecular_fog = \"clamped\"\n", "named");
+    assert_eq!(named.counts, [1, 1, 0, 0]);
+    assert!(named.unexpected.is_empty(), "{:?}", named.unexpected);
+    assert_eq!(named.behaviours["specular_fog"], Some("clamped"));
+    assert_eq!(named.behaviours["minimum_size"], None);
+    let json: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(dir.join("named/report.json")).unwrap()).unwrap();
+    assert_eq!(json["behaviours"]["specular_fog"], "clamped");
+    assert_eq!(
+        json["behaviours"]["fog_without_specular"],
+        serde_json::Value::Null
+    );
+    let case = json["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["scene"].as_str().unwrap().ends_with("fogged.toml"))
+        .unwrap();
+    assert_eq!(case["status"], "option");
+    assert_eq!(
+        case["options"],
+        serde_json::json!({"specular_fog": "clamped"})
+    );
+    let html = fs::read_to_string(dir.join("named/index.html")).unwrap();
+    for needle in [
+        "<h2>Device behaviours</h2>",
+        "<span class=\"option\">clamped</span>",
+    ] {
+        assert!(html.contains(needle), "index.html lacks {needle}");
+    }
+    // Without the device's option in the expectations, the finding is unexpected.
+    let unnamed = run("", "unnamed");
+    assert_eq!(unnamed.unexpected.len(), 1);
+    assert!(
+        unnamed.unexpected[0]
+            .1
+            .contains("specular_fog = \"clamped\"")
+    );
+    // `--behaviour specular_fog=clamped` renders pointillist so: the case matches.
+    let summary = conform(&Options {
+        paths: vec![scenes.clone()],
+        runner: Runner::Captures(caps_dir.clone()),
+        report: dir.join("set"),
+        expect: None,
+        behaviours: vec!["specular_fog=clamped".parse().unwrap()],
+    })
+    .unwrap();
+    assert_eq!(summary.counts, [2, 0, 0, 0]);
+    assert_eq!(summary.behaviours["specular_fog"], Some("clamped"));
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// A replayer that dies in a case: the case fails with that said, and the cases after it are
 /// replayed by a second start.
 #[test]
@@ -386,7 +493,12 @@ fn a_replayer_that_stops_is_restarted_after_the_case() {
     fs::create_dir_all(&images).unwrap();
     let scene = pointillist_scene::load(&scenes.join("b_fine.toml")).unwrap();
     let device = DeviceInfo::parse(DEVICE_TXT, Path::new("device.txt")).unwrap();
-    let image = render(&scene, device_caps(&device, &scene.caps)).unwrap();
+    let image = render(
+        &scene,
+        device_caps(&device, &scene.caps),
+        Default::default(),
+    )
+    .unwrap();
     write_png(&images.join("b_fine.png"), &image);
     write_png(&images.join("c_fine.png"), &image);
     fs::write(images.join("device.txt"), DEVICE_TXT).unwrap();
@@ -409,9 +521,10 @@ fn a_replayer_that_stops_is_restarted_after_the_case() {
         runner: Runner::Command(format!("sh {}", script.display())),
         report: dir.join("report"),
         expect: None,
+        behaviours: Vec::new(),
     })
     .unwrap();
-    assert_eq!(summary.counts, [2, 0, 1]);
+    assert_eq!(summary.counts, [2, 0, 0, 1]);
     assert_eq!(summary.unexpected.len(), 1);
     assert_eq!(summary.unexpected[0].0, "a_boom");
     let json = fs::read_to_string(dir.join("report/report.json")).unwrap();
@@ -428,6 +541,7 @@ fn a_replayer_that_stops_is_restarted_after_the_case() {
         runner: Runner::Command("true".into()),
         report: dir.join("report2"),
         expect: None,
+        behaviours: Vec::new(),
     })
     .unwrap_err();
     assert!(e.contains("wrote no device description"), "{e}");

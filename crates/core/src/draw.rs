@@ -6,10 +6,14 @@
 //! [`Backend::draw_points`](crate::device::Backend::draw_points); backends and tests read these
 //! instead of resolving the states again, so every user of a rule reads one definition.
 
+use crate::behaviour::BehaviourSet;
+use crate::fog::FogSource;
 use crate::fvf::Fvf;
 use crate::pixel::{BlendClass, PixelSetup};
 use crate::point::PointSetup;
+use crate::point::clamp_bounds;
 use crate::state::DeviceState;
+use crate::states::{FogMode, RenderState};
 
 /// A draw's states, resolved.
 #[derive(Clone, Debug)]
@@ -37,5 +41,93 @@ impl<'a> DrawSetup<'a> {
             blend: pixel.blend_class(),
             pixel,
         }
+    }
+
+    /// The device behaviour switches (SPEC 10) whose options could draw this draw differently:
+    /// `specular_fog` for a specular add under fog, `fog_without_specular` for a draw without
+    /// SPECULAR whose fog factor is the specular alpha, `fog_start_equals_end` for LINEAR fog
+    /// with FOGSTART == FOGEND, `zero_rhw` for pre-transformed vertices, `minimum_size` where
+    /// the clamp allows sizes below one pixel.
+    pub fn behaviours_read(&self) -> BehaviourSet {
+        let rs = |s: RenderState| self.state.render_state(s);
+        let f = |s| f32::from_bits(rs(s));
+        let mut set = BehaviourSet::default();
+        if self.pixel.specular && self.pixel.fog.is_some() {
+            set.insert("specular_fog");
+        }
+        if let Some(fog) = self.points.fog() {
+            let formula = match fog.source {
+                FogSource::SpecularAlpha { .. } => {
+                    if self.fvf.layout().specular.is_none() {
+                        set.insert("fog_without_specular");
+                    }
+                    FogMode::None
+                }
+                FogSource::Vertex { formula, .. } | FogSource::Table { formula, .. } => formula,
+            };
+            if formula == FogMode::Linear && f(RenderState::FOGSTART) == f(RenderState::FOGEND) {
+                set.insert("fog_start_equals_end");
+            }
+        }
+        if self.fvf.is_pretransformed() {
+            set.insert("zero_rhw");
+        }
+        let (lo, hi) = clamp_bounds(
+            f(RenderState::POINTSIZE_MIN),
+            f(RenderState::POINTSIZE_MAX),
+            self.state.caps.effective().max_point_size,
+        );
+        if !self.points.is_single_pixel() && (lo.is_nan() || lo < 1.0 || hi < 1.0) {
+            set.insert("minimum_size");
+        }
+        set
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::caps::Caps;
+    use crate::states::Api;
+
+    fn read(states: &[(RenderState, u32)], fvf: Fvf) -> Vec<&'static str> {
+        let mut s = DeviceState::new(Api::D3d9, Caps::reference(), 8, 8);
+        for &(k, v) in states {
+            s.render_states[k.0 as usize] = v;
+        }
+        let set = DrawSetup::new(&s, fvf).behaviours_read();
+        crate::behaviour::BEHAVIOURS
+            .iter()
+            .map(|d| d.name)
+            .filter(|n| set.contains(n))
+            .collect()
+    }
+
+    #[test]
+    fn a_draw_reads_the_switches_its_pixels_depend_on() {
+        let rhw_d = Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0);
+        let xyz_ds = Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+        assert!(read(&[], xyz_ds).is_empty(), "D3D9 defaults: MIN 1, no fog");
+        assert_eq!(read(&[], rhw_d), ["zero_rhw"]);
+        let fog = (RenderState::FOGENABLE, 1);
+        let spec = (RenderState::SPECULARENABLE, 1);
+        assert_eq!(read(&[fog, spec], xyz_ds), ["specular_fog"]);
+        assert_eq!(
+            read(&[fog], rhw_d),
+            ["fog_without_specular", "zero_rhw"],
+            "no SPECULAR, the specular alpha is the factor"
+        );
+        let linear = (RenderState::FOGTABLEMODE, FogMode::Linear as u32);
+        let same = [
+            (RenderState::FOGSTART, 0.5f32.to_bits()),
+            (RenderState::FOGEND, 0.5f32.to_bits()),
+        ];
+        assert_eq!(
+            read(&[fog, linear, same[0], same[1]], xyz_ds),
+            ["fog_start_equals_end"]
+        );
+        assert!(read(&[fog, linear], xyz_ds).is_empty(), "start 0, end 1");
+        let min_0 = (RenderState::POINTSIZE_MIN, 0.0f32.to_bits());
+        assert_eq!(read(&[min_0], xyz_ds), ["minimum_size"]);
     }
 }

@@ -5,6 +5,7 @@
 //! the point's factor ([`FogSetup::factor`]) and the pixel stage blends with [`fog_blend`].
 //! For a point every pixel has the same depth, so the factor is computed once per point.
 
+use crate::behaviour::{FogStartEqualsEnd, FogWithoutSpecular};
 use crate::color::{Rgba, unpack};
 use crate::fvf::Fvf;
 use crate::math::Mat4;
@@ -14,8 +15,12 @@ use crate::states::{FogMode, RenderState};
 /// Where a draw's fog factor comes from (SPEC 9.2).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
 pub enum FogSource {
-    /// The vertex's SPECULAR alpha; 1 (unfogged) for a vertex without SPECULAR.
-    SpecularAlpha,
+    /// The vertex's SPECULAR alpha; for a vertex without SPECULAR, 0 or 1 as the
+    /// `fog_without_specular` behaviour says.
+    SpecularAlpha {
+        /// The `fog_without_specular` behaviour.
+        without: FogWithoutSpecular,
+    },
     /// Vertex fog: `formula` of the eye-space depth `|Ze|`, or of the eye distance when
     /// `range` (RANGEFOGENABLE).
     Vertex {
@@ -48,23 +53,36 @@ pub struct FogSetup {
 pub struct FogParams {
     /// FOGEND.
     pub end: f32,
-    /// `1 / (FOGEND - FOGSTART)`, or 0 when FOGSTART == FOGEND (every point fully fogged).
+    /// `1 / (FOGEND - FOGSTART)`, or 0 when FOGSTART == FOGEND and every point is fogged.
     pub scale: f32,
     /// FOGDENSITY.
     pub density: f32,
+    /// FOGSTART == FOGEND fogs as a step: 1 nearer than FOGEND, 0 from FOGEND on.
+    pub step: bool,
 }
 
 impl FogParams {
-    /// From FOGSTART, FOGEND and FOGDENSITY.
-    pub fn new(start: f32, end: f32, density: f32) -> FogParams {
+    /// From FOGSTART, FOGEND and FOGDENSITY; when FOGSTART == FOGEND, `step` says whether LINEAR
+    /// fog is a step at FOGEND (else every point is fogged).
+    pub fn new(start: f32, end: f32, density: f32, step: bool) -> FogParams {
+        let equal = end == start;
         FogParams {
             end,
-            scale: if end == start {
-                0.0
-            } else {
-                1.0 / (end - start)
-            },
+            scale: if equal { 0.0 } else { 1.0 / (end - start) },
             density,
+            step: equal && step,
+        }
+    }
+}
+
+impl FogStartEqualsEnd {
+    /// SPEC 9.3: whether LINEAR fog with FOGSTART == FOGEND is a step at FOGEND for vertex
+    /// (`table` false) or table fog.
+    pub fn step(self, table: bool) -> bool {
+        match self {
+            FogStartEqualsEnd::VertexFoggedTableStep => table,
+            FogStartEqualsEnd::Fogged => false,
+            FogStartEqualsEnd::Step => true,
         }
     }
 }
@@ -76,6 +94,13 @@ impl FogParams {
 pub fn fog_factor(formula: FogMode, d: f32, p: &FogParams) -> f32 {
     let f = match formula {
         FogMode::None => 1.0,
+        FogMode::Linear if p.step => {
+            if d < p.end {
+                1.0
+            } else {
+                0.0
+            }
+        }
         FogMode::Linear => (p.end - d) * p.scale,
         FogMode::Exp => (-(d * p.density)).exp(),
         FogMode::Exp2 => {
@@ -110,6 +135,17 @@ pub fn is_affine(projection: &Mat4) -> bool {
     m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0
 }
 
+impl FogWithoutSpecular {
+    /// SPEC 9.2: the fog factor of a vertex without SPECULAR.
+    #[inline]
+    pub fn factor(self) -> f32 {
+        match self {
+            FogWithoutSpecular::Fogged => 0.0,
+            FogWithoutSpecular::Unfogged => 1.0,
+        }
+    }
+}
+
 impl FogSetup {
     /// SPEC 9.1, 9.2: the fog of a draw of `fvf` vertices, `None` when FOGENABLE is off.
     pub fn new(state: &DeviceState, fvf: Fvf) -> Option<FogSetup> {
@@ -131,7 +167,9 @@ impl FogSetup {
                 range: rs(RenderState::RANGEFOGENABLE) != 0,
             }
         } else {
-            FogSource::SpecularAlpha
+            FogSource::SpecularAlpha {
+                without: state.behaviours.fog_without_specular(),
+            }
         };
         let f = |s| f32::from_bits(rs(s));
         Some(FogSetup {
@@ -140,6 +178,10 @@ impl FogSetup {
                 f(RenderState::FOGSTART),
                 f(RenderState::FOGEND),
                 f(RenderState::FOGDENSITY),
+                state
+                    .behaviours
+                    .fog_start_equals_end()
+                    .step(matches!(source, FogSource::Table { .. })),
             ),
         })
     }
@@ -150,7 +192,9 @@ impl FogSetup {
     #[inline]
     pub fn factor(&self, eye: [f32; 3], z: f32, w: f32, specular: Option<u32>) -> f32 {
         match self.source {
-            FogSource::SpecularAlpha => specular.map_or(1.0, |s| unpack(s)[3]),
+            FogSource::SpecularAlpha { without } => {
+                specular.map_or(without.factor(), |s| unpack(s)[3])
+            }
             FogSource::Vertex { formula, range } => {
                 let d = if range {
                     (eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]).sqrt()
@@ -213,7 +257,7 @@ mod tests {
         let f = fog_factor(
             FogMode::Linear,
             0.001 + 2.0 / 10.02,
-            &FogParams::new(0.1, 0.9, 1.0),
+            &FogParams::new(0.1, 0.9, 1.0, false),
         );
         assert_eq!(pack(fog_blend(red, f, &green)), 0xFFDF_2000);
         let half = fog_blend([1.0, 1.0, 1.0, 0.25], 0.5, &[0.0, 0.0, 0.0, 1.0]);
@@ -227,7 +271,12 @@ mod tests {
         let t = |states: &[(RenderState, u32)], fvf| {
             setup(states, fvf, &Mat4::IDENTITY).unwrap().source
         };
-        assert_eq!(t(&[ON], XYZ_DS), FogSource::SpecularAlpha);
+        assert_eq!(
+            t(&[ON], XYZ_DS),
+            FogSource::SpecularAlpha {
+                without: FogWithoutSpecular::Fogged
+            }
+        );
         let vertex_linear = (RenderState::FOGVERTEXMODE, mode(FogMode::Linear));
         assert_eq!(
             t(&[ON, vertex_linear], XYZ_DS),
@@ -236,7 +285,12 @@ mod tests {
                 range: false
             }
         );
-        assert_eq!(t(&[ON, vertex_linear], RHW_DS), FogSource::SpecularAlpha);
+        assert_eq!(
+            t(&[ON, vertex_linear], RHW_DS),
+            FogSource::SpecularAlpha {
+                without: FogWithoutSpecular::Fogged
+            }
+        );
         let table_exp = (RenderState::FOGTABLEMODE, mode(FogMode::Exp));
         let range = (RenderState::RANGEFOGENABLE, 1);
         for fvf in [XYZ_DS, RHW_DS] {
@@ -251,36 +305,95 @@ mod tests {
         // An undefined mode value is NONE.
         assert_eq!(
             t(&[ON, (RenderState::FOGTABLEMODE, 9)], XYZ_DS),
-            FogSource::SpecularAlpha
+            FogSource::SpecularAlpha {
+                without: FogWithoutSpecular::Fogged
+            }
         );
         let s = setup(&[ON], XYZ_DS, &Mat4::IDENTITY).unwrap();
         assert_eq!(
             s.factor([0.0; 3], 0.5, 1.0, Some(0x8000_0000)),
             128.0 / 255.0
         );
+        // SPEC 9.2, `fog_without_specular`: no SPECULAR fogs completely, or not at all.
+        assert_eq!(s.factor([0.0; 3], 0.5, 1.0, None), 0.0);
+        let unfogged = (RenderState::FOGENABLE, 1);
+        let mut state = DeviceState::new(Api::D3d9, Caps::reference(), 64, 64);
+        state.render_states[unfogged.0.0 as usize] = unfogged.1;
+        state
+            .behaviours
+            .apply("fog_without_specular=unfogged")
+            .unwrap();
+        let s = FogSetup::new(&state, RHW_DS).unwrap();
         assert_eq!(s.factor([0.0; 3], 0.5, 1.0, None), 1.0);
+        assert_eq!(
+            s.factor([0.0; 3], 0.5, 1.0, Some(0x4000_0000)),
+            64.0 / 255.0
+        );
+    }
+
+    #[test]
+    fn spec_9_3_start_equal_to_end_follows_the_behaviour() {
+        let state = |option: &str, table: bool| {
+            let mode = if table {
+                RenderState::FOGTABLEMODE
+            } else {
+                RenderState::FOGVERTEXMODE
+            };
+            let mut s = DeviceState::new(Api::D3d9, Caps::reference(), 8, 8);
+            for (k, v) in [
+                (RenderState::FOGENABLE, 1),
+                (mode, FogMode::Linear as u32),
+                (RenderState::FOGSTART, 0.5f32.to_bits()),
+                (RenderState::FOGEND, 0.5f32.to_bits()),
+            ] {
+                s.render_states[k.0 as usize] = v;
+            }
+            s.behaviours.set("fog_start_equals_end", option).unwrap();
+            FogSetup::new(&s, XYZ_DS).unwrap()
+        };
+        // Vertex fog reads |Ze|, table fog the depth Z (identity projection: both 0.25 here).
+        let near = |s: FogSetup| s.factor([0.0, 0.0, 0.25], 0.25, 1.0, None);
+        for (option, vertex, table) in [
+            ("vertex_fogged_table_step", 0.0, 1.0),
+            ("fogged", 0.0, 0.0),
+            ("step", 1.0, 1.0),
+        ] {
+            assert_eq!(near(state(option, false)), vertex, "{option} vertex");
+            assert_eq!(near(state(option, true)), table, "{option} table");
+        }
     }
 
     #[test]
     fn spec_9_3_formulas() {
-        let p = FogParams::new(2.0, 10.0, 0.5);
+        let p = FogParams::new(2.0, 10.0, 0.5, false);
         assert_eq!(fog_factor(FogMode::Linear, 6.0, &p), 0.5);
         assert_eq!(fog_factor(FogMode::Linear, 1.0, &p), 1.0);
         assert_eq!(fog_factor(FogMode::Linear, 11.0, &p), 0.0);
         assert_eq!(fog_factor(FogMode::Exp, 2.0, &p), (-1.0f32).exp());
         assert_eq!(fog_factor(FogMode::Exp2, 4.0, &p), (-4.0f32).exp());
         // Wine fog_test: FOGSTART == FOGEND fogs every point fully, even in front of start.
-        let same = FogParams::new(512.0, 512.0, 1.0);
+        let same = FogParams::new(512.0, 512.0, 1.0, false);
         assert_eq!(fog_factor(FogMode::Linear, 0.1, &same), 0.0);
         assert_eq!(fog_factor(FogMode::Linear, 1000.0, &same), 0.0);
-        let nan = FogParams::new(0.0, 1.0, f32::NAN);
+        // Wine fog_special_test, D3D9On12 ComputePixelFog: table fog with start == end is a step
+        // at the end, fogged from it on (NaN fogged too).
+        let step = FogParams::new(0.5, 0.5, 1.0, true);
+        assert_eq!(fog_factor(FogMode::Linear, 0.4999, &step), 1.0);
+        assert_eq!(fog_factor(FogMode::Linear, 0.5, &step), 0.0);
+        assert_eq!(fog_factor(FogMode::Linear, 0.6, &step), 0.0);
+        assert_eq!(fog_factor(FogMode::Linear, f32::NAN, &step), 0.0);
+        assert!(
+            !FogParams::new(0.2, 0.5, 1.0, true).step,
+            "only when start == end"
+        );
+        let nan = FogParams::new(0.0, 1.0, f32::NAN, false);
         assert_eq!(fog_factor(FogMode::Exp, 1.0, &nan), 0.0);
         // Wine fog_with_shader_test, table EXP and EXP2 at z = 0.7994 (density 1): 0x00738c00 and
         // 0x00867900 within 1 step.
         let red = unpack(0xFFFF_0000);
         let green = unpack(0xFF00_FF00);
         let z = 0.001 + 8.0 / 10.02;
-        let one = FogParams::new(0.1, 0.9, 1.0);
+        let one = FogParams::new(0.1, 0.9, 1.0, false);
         let exp = pack(fog_blend(red, fog_factor(FogMode::Exp, z, &one), &green));
         let exp2 = pack(fog_blend(red, fog_factor(FogMode::Exp2, z, &one), &green));
         assert!(close(exp, 0xFF73_8C00), "{exp:08x}");

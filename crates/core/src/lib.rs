@@ -7,6 +7,7 @@
 //! sprite coordinates), textures and their sampling, and the fixed-function pixel arithmetic.
 //! Backends (`pointillist-cpu`, the GPU backend) call these functions and are tested against them.
 
+pub mod behaviour;
 pub mod caps;
 pub mod color;
 pub mod device;
@@ -22,6 +23,7 @@ pub mod states;
 pub mod texture;
 pub mod tolerance;
 
+pub use behaviour::Behaviours;
 pub use device::{
     Backend, DRAW_SCRATCH_BYTES, Device, DeviceDesc, DeviceError, MAX_DRAW_VERTICES,
     MAX_TARGET_SIZE, RenderTarget, StateValue, TransformType, Vertex, XyzDiffuse, XyzPsizeDiffuse,

@@ -4,6 +4,7 @@
 //! Backends call [`PixelSetup::shade`] and [`blend`] or reproduce them exactly; the functions
 //! here are the reference the tests compare every backend against.
 
+use crate::behaviour::SpecularFog;
 use crate::color::{Rgba, pack, unpack};
 use crate::fog::fog_blend;
 use crate::state::{DeviceState, MAX_STAGES};
@@ -177,6 +178,9 @@ pub struct PixelSetup {
     pub tfactor: Rgba,
     /// SPECULARENABLE.
     pub specular: bool,
+    /// The `specular_fog` behaviour (SPEC 5.3): the diffuse + specular sum is clamped to 1
+    /// before fog, or fogged as it is and clamped after.
+    pub specular_fog: SpecularFog,
     /// ALPHATESTENABLE: ALPHAFUNC and ALPHAREF.
     pub alpha_test: Option<(Cmp, u8)>,
     /// ZENABLE: the depth test.
@@ -321,6 +325,7 @@ impl PixelSetup {
             stage_count,
             tfactor: unpack(rs(RenderState::TEXTUREFACTOR)),
             specular: rs(RenderState::SPECULARENABLE) != 0,
+            specular_fog: state.behaviours.specular_fog(),
             alpha_test,
             depth,
             blend,
@@ -351,6 +356,12 @@ impl PixelSetup {
                     && st.color_passes()
                     && (st.alpha_op == TextureOp::Disable || st.alpha_passes())
             })
+    }
+
+    /// True when a diffuse + specular sum above 1 reaches fog unclamped: SPECULARENABLE, fog
+    /// and the `specular_fog` behaviour `unclamped` (SPEC 5.3).
+    pub fn specular_sum_unclamped(&self) -> bool {
+        self.specular && self.fog.is_some() && self.specular_fog == SpecularFog::Unclamped
     }
 
     /// True when every pixel of a point gets the same colour: no stage samples a texture, or
@@ -413,12 +424,22 @@ impl PixelSetup {
                 current = result;
             }
         }
+        // SPEC 5.3: the sum is clamped before fog unless the `specular_fog` behaviour fogs it
+        // as it is; then the fogged colour is clamped.
+        let unclamped = self.specular_sum_unclamped();
         if self.specular {
             for (c, s) in current.iter_mut().zip(&input.specular).take(3) {
-                *c = (*c + s).min(1.0);
+                *c += s;
+                if !unclamped {
+                    *c = c.min(1.0);
+                }
             }
         }
         match &self.fog {
+            Some(color) if unclamped => {
+                let [r, g, b, a] = fog_blend(current, input.fog, color);
+                [r.min(1.0), g.min(1.0), b.min(1.0), a]
+            }
             Some(color) => fog_blend(current, input.fog, color),
             None => current,
         }
@@ -746,5 +767,36 @@ mod tests {
         assert!(alpha_test_passes(Some((Cmp::Greater, 0x7F)), 0x8000_0000));
         assert!(!alpha_test_passes(Some((Cmp::Greater, 0x80)), 0x8000_0000));
         assert!(alpha_test_passes(None, 0));
+    }
+
+    /// SPEC 5.3 and the `specular_fog` behaviour: diffuse 0xC08000 plus specular 0x20A000,
+    /// fogged at 0.4 towards black. Fogged as it is (Wine, DXVK) green is 288/255 * 0.4, 0x73;
+    /// clamped first it is 0x66.
+    #[test]
+    fn spec_5_3_specular_fog_behaviour() {
+        let mut s = DeviceState::new(Api::D3d9, Caps::reference(), 4, 4);
+        s.render_states[RenderState::SPECULARENABLE.0 as usize] = 1;
+        s.render_states[RenderState::FOGENABLE.0 as usize] = 1;
+        s.render_states[RenderState::FOGCOLOR.0 as usize] = 0xFF00_0000;
+        let input = ShadeInputs {
+            diffuse: unpack(0xFFC0_8000),
+            specular: unpack(0x0020_A000),
+            fog: 0.4,
+        };
+        let shade = |s: &DeviceState| pack(PixelSetup::new(s).shade(&input, |_| [0.0; 4]));
+        assert_eq!(shade(&s), 0xFF5A_7300);
+        s.behaviours.apply("specular_fog=clamped").unwrap();
+        assert_eq!(shade(&s), 0xFF5A_6600);
+        // Unfogged, the sum saturates either way; over-bright after fog it saturates too.
+        s.render_states[RenderState::FOGENABLE.0 as usize] = 0;
+        assert_eq!(shade(&s), 0xFFE0_FF00);
+        s.behaviours = Default::default();
+        assert_eq!(shade(&s), 0xFFE0_FF00);
+        s.render_states[RenderState::FOGENABLE.0 as usize] = 1;
+        let bright = ShadeInputs { fog: 0.9, ..input };
+        assert_eq!(
+            pack(PixelSetup::new(&s).shade(&bright, |_| [0.0; 4])),
+            0xFFCA_FF00
+        );
     }
 }

@@ -5,6 +5,7 @@
 //! single source of truth for SPEC sections 2 (size), 3 (clipping) and 4.1/4.3 (coverage,
 //! sprite coordinates).
 
+use crate::behaviour::{MinimumSize, ZeroRhw};
 use crate::caps::Caps;
 use crate::fog::FogSetup;
 use crate::fvf::{Fvf, Layout, read_f32, read_u32};
@@ -45,6 +46,16 @@ pub fn clamp_size(ss: f32, size_min: f32, size_max: f32, max_point_size: f32) ->
 pub fn clamp_to_bounds(ss: f32, (lo, hi): (f32, f32)) -> f32 {
     let ss = if ss >= 0.0 { ss } else { 0.0 }; // NaN and negatives
     ss.max(lo).min(hi)
+}
+
+/// SPEC 2.5 and the `minimum_size` behaviour: with `one_pixel` both bounds are at least 1, so
+/// that every clamped size is (a NaN or negative size too).
+#[inline]
+pub fn minimum_size((lo, hi): (f32, f32), rule: MinimumSize) -> (f32, f32) {
+    match rule {
+        MinimumSize::None => (lo, hi),
+        MinimumSize::OnePixel => (lo.max(1.0), hi.max(1.0)),
+    }
 }
 
 /// SPEC 2.3: the bounds `(lo, hi)` of [`clamp_size`], never NaN: a NaN `POINTSIZE_MIN` is no
@@ -228,6 +239,8 @@ pub struct PointSetup {
     single_pixel: bool,
     /// SPEC 2.3's `(lo, hi)`, from [`clamp_bounds`].
     size_bounds: (f32, f32),
+    /// The `zero_rhw` behaviour is `drawn` (SPEC 3.1).
+    zero_rhw_drawn: bool,
     clipping: bool,
     /// Enabled user clip planes: world space (vertex mode) or clip space (scaled mode).
     planes: [[f32; 4]; 6],
@@ -316,11 +329,15 @@ impl PointSetup {
             use_vertex_size: fvf.has_psize() && caps.per_vertex_point_size,
             scale,
             single_pixel: caps.max_point_size <= 1.0,
-            size_bounds: clamp_bounds(
-                rf(RenderState::POINTSIZE_MIN),
-                rf(RenderState::POINTSIZE_MAX),
-                caps.max_point_size,
+            size_bounds: minimum_size(
+                clamp_bounds(
+                    rf(RenderState::POINTSIZE_MIN),
+                    rf(RenderState::POINTSIZE_MAX),
+                    caps.max_point_size,
+                ),
+                state.behaviours.minimum_size(),
             ),
+            zero_rhw_drawn: state.behaviours.zero_rhw() == ZeroRhw::Drawn,
             clipping,
             planes,
             plane_count,
@@ -447,12 +464,20 @@ impl PointSetup {
         clamp_to_bounds(ss, self.size_bounds)
     }
 
-    /// SPEC 3.1 for a pre-transformed vertex with finite coordinates: w = 1/RHW must be
-    /// positive, and with clipping the depth `z` inside the viewport's `[min_z, max_z]`.
+    /// SPEC 3.1 for a pre-transformed vertex with finite coordinates: RHW must be positive (or
+    /// 0 or -0, drawn as RHW 1, under the `zero_rhw` behaviour `drawn`), and with clipping the
+    /// depth `z` inside the viewport's `[min_z, max_z]`.
     #[inline]
     pub fn keeps_pretransformed(&self, z: f32, rhw: f32) -> bool {
         let vp = &self.viewport;
-        rhw > 0.0 && (!self.clipping || (vp.min_z <= z && z <= vp.max_z))
+        (rhw > 0.0 || (rhw == 0.0 && self.zero_rhw_drawn))
+            && (!self.clipping || (vp.min_z <= z && z <= vp.max_z))
+    }
+
+    /// True when a pre-transformed point with RHW 0 or -0 is drawn, as RHW 1 (the `zero_rhw`
+    /// behaviour, SPEC 3.1).
+    pub fn zero_rhw_drawn(&self) -> bool {
+        self.zero_rhw_drawn
     }
 
     /// SPEC 4.1 and 3.2: the left and top edges of the square of side `size` centred on screen
@@ -515,7 +540,8 @@ impl PointSetup {
             if !self.keeps_pretransformed(z, rhw) {
                 return None;
             }
-            (x, y, z, self.size(si, 0.0), None, [0.0; 3], 1.0 / rhw)
+            let w = if rhw == 0.0 { 1.0 } else { 1.0 / rhw };
+            (x, y, z, self.size(si, 0.0), None, [0.0; 3], w)
         } else {
             let p = self.project(pos)?;
             let size = self.size(si, p.eye_distance);
@@ -670,6 +696,55 @@ mod tests {
         assert_eq!(clamp_size(-5.0, 2.0, 64.0, 64.0), 2.0);
         assert_eq!(clamp_size(f32::INFINITY, 0.0, 64.0, 8192.0), 64.0);
         assert_eq!(clamp_size(f32::INFINITY, 0.0, f32::NAN, 8192.0), 8192.0);
+    }
+
+    #[test]
+    fn spec_3_1_zero_rhw_behaviour() {
+        let mut state = DeviceState::new(crate::states::Api::D3d9, Caps::reference(), 8, 8);
+        let drawn = PointSetup::new(&state, Fvf::XYZRHW);
+        assert!(drawn.keeps_pretransformed(0.5, 0.0));
+        assert!(drawn.keeps_pretransformed(0.5, -0.0));
+        assert!(
+            drawn.keeps_pretransformed(0.5, 1e-45),
+            "a subnormal RHW is positive"
+        );
+        assert!(!drawn.keeps_pretransformed(0.5, -1e-30));
+        assert!(!drawn.keeps_pretransformed(0.5, -1.0));
+        state.behaviours.apply("zero_rhw=dropped").unwrap();
+        let dropped = PointSetup::new(&state, Fvf::XYZRHW);
+        assert!(!dropped.keeps_pretransformed(0.5, 0.0));
+        assert!(!dropped.keeps_pretransformed(0.5, -0.0));
+        assert!(dropped.keeps_pretransformed(0.5, 1e-45));
+    }
+
+    #[test]
+    fn spec_2_5_minimum_size_behaviour() {
+        let bounds = clamp_bounds(0.0, 64.0, 64.0);
+        let one = minimum_size(bounds, MinimumSize::OnePixel);
+        assert_eq!(minimum_size(bounds, MinimumSize::None), bounds);
+        for (ss, none, one_pixel) in [
+            (0.0, 0.0, 1.0),
+            (0.5, 0.5, 1.0),
+            (f32::NAN, 0.0, 1.0),
+            (-3.0, 0.0, 1.0),
+            (1.5, 1.5, 1.5),
+            (100.0, 64.0, 64.0),
+        ] {
+            assert_eq!(clamp_to_bounds(ss, bounds), none, "{ss}");
+            assert_eq!(clamp_to_bounds(ss, one), one_pixel, "{ss}");
+        }
+        // A POINTSIZE_MAX below one pixel gives way too.
+        let small = minimum_size(clamp_bounds(0.0, 0.25, 64.0), MinimumSize::OnePixel);
+        assert_eq!(clamp_to_bounds(0.1, small), 1.0);
+        let mut state = DeviceState::new(crate::states::Api::D3d9, Caps::reference(), 8, 8);
+        state.render_states[RenderState::POINTSIZE_MIN.0 as usize] = 0.0f32.to_bits();
+        let none = PointSetup::new(&state, Fvf::XYZRHW);
+        assert_eq!(none.size(0.0, 0.0), 0.0);
+        state.behaviours.apply("minimum_size=one_pixel").unwrap();
+        let one = PointSetup::new(&state, Fvf::XYZRHW);
+        assert_eq!(one.size(0.0, 0.0), 1.0);
+        assert_eq!(one.size(0.3, 0.0), 1.0);
+        assert_eq!(one.size(3.0, 0.0), 3.0);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use crate::behaviour::Behaviours;
 use crate::caps::Caps;
 use crate::light::{Lights, Material};
 use crate::math::Mat4;
@@ -53,6 +54,8 @@ pub struct DeviceState {
     pub api: Api,
     /// The device's caps (as reported; the pipeline applies [`Caps::effective`]).
     pub caps: Caps,
+    /// Where real devices differ, the behaviour this device emulates.
+    pub behaviours: Behaviours,
     /// Target width.
     pub target_width: u32,
     /// Target height.
@@ -104,6 +107,7 @@ impl DeviceState {
         DeviceState {
             api,
             caps,
+            behaviours: Behaviours::default(),
             target_width: width,
             target_height: height,
             render_states,

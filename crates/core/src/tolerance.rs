@@ -65,6 +65,22 @@ pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
     }
 }
 
+/// The tolerance against another D3D9 implementation (the conformance kit's comparison with a
+/// device, SPEC 7): [`draw_tolerance`], and one step for any lit or fogged draw. Lighting and
+/// fog end in a colour that is quantised to 8 bits; where the exact value lies on a half step
+/// (linear fog at f = 0.3 of 255 is 76.5), round-to-nearest-even, round-half-up and a one-ULP
+/// difference in the arithmetic before it each give a correct device one step apart from
+/// pointillist. pointillist's own backends stay as strict as [`draw_tolerance`].
+pub fn device_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
+    let lit_or_fogged = draw.points.lighting().is_some() || draw.points.fog().is_some();
+    let own = draw_tolerance(draw);
+    if lit_or_fogged {
+        own.max(Tolerance::Steps(1))
+    } else {
+        own
+    }
+}
+
 /// True when `draw` lights with `pow` (a specular highlight or a spot light's falloff, SPEC 8.4,
 /// 8.6) or fogs with `exp` (SPEC 9.3).
 fn exponentials(draw: &DrawSetup<'_>) -> bool {
@@ -78,7 +94,7 @@ fn exponentials(draw: &DrawSetup<'_>) -> bool {
         FogSource::Vertex { formula, .. } | FogSource::Table { formula, .. } => {
             matches!(formula, FogMode::Exp | FogMode::Exp2)
         }
-        FogSource::SpecularAlpha => false,
+        FogSource::SpecularAlpha { .. } => false,
     });
     lit || fog
 }
@@ -146,5 +162,22 @@ mod tests {
         assert_eq!(xyz(&s), Tolerance::Exact, "linear fog");
         set(&mut s, RenderState::FOGTABLEMODE, FogMode::Exp2 as u32);
         assert_eq!(xyz(&s), Tolerance::Steps(1), "EXP2 fog uses exp");
+    }
+
+    #[test]
+    fn spec_7_a_device_may_round_a_lit_or_fogged_half_step_either_way() {
+        let device = |s: &DeviceState| device_tolerance(&DrawSetup::new(s, Fvf::XYZ));
+        let set = |s: &mut DeviceState, r: RenderState, v: u32| s.render_states[r.0 as usize] = v;
+        let mut s = state();
+        set(&mut s, RenderState::LIGHTING, 0);
+        assert_eq!(device(&s), Tolerance::Exact, "unlit, unfogged");
+        set(&mut s, RenderState::FOGENABLE, 1);
+        set(&mut s, RenderState::FOGVERTEXMODE, FogMode::Linear as u32);
+        assert_eq!(device(&s), Tolerance::Steps(1), "linear fog");
+        let own = |s: &DeviceState| draw_tolerance(&DrawSetup::new(s, Fvf::XYZ));
+        assert_eq!(own(&s), Tolerance::Exact, "the backends stay exact");
+        set(&mut s, RenderState::FOGENABLE, 0);
+        set(&mut s, RenderState::LIGHTING, 1);
+        assert_eq!(device(&s), Tolerance::Steps(1), "lit");
     }
 }

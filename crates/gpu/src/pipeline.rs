@@ -142,6 +142,9 @@ pub(crate) struct PipelineKey {
     pub stages: Vec<StageKey>,
     /// SPECULARENABLE.
     pub specular: bool,
+    /// The diffuse + specular sum reaches fog unclamped (core
+    /// `PixelSetup::specular_sum_unclamped`, SPEC 5.3).
+    pub specular_unclamped: bool,
     /// ALPHATESTENABLE: ALPHAFUNC.
     pub alpha_test: Option<Cmp>,
     /// ZENABLE: ZFUNC and ZWRITEENABLE (only with a depth attachment).
@@ -154,6 +157,10 @@ pub(crate) struct PipelineKey {
     pub lighting: Option<LightKey>,
     /// Where the fog factor comes from (SPEC 9.2), `None` without fog.
     pub fog: Option<FogSource>,
+    /// LINEAR fog with FOGSTART == FOGEND is a step at FOGEND (core `FogParams::step`).
+    pub fog_step: bool,
+    /// A pre-transformed point with RHW 0 or -0 is drawn (core `PointSetup::zero_rhw_drawn`).
+    pub zero_rhw_drawn: bool,
 }
 
 /// The switches of core's `LightSetup` that shape the shader; the colours, lights and matrices
@@ -212,6 +219,7 @@ impl PipelineKey {
             flat: pixel.is_flat(),
             stages,
             specular: pixel.specular,
+            specular_unclamped: pixel.specular_sum_unclamped(),
             alpha_test: pixel.alpha_test.map(|(func, _)| func),
             depth: target
                 .depth_format
@@ -221,6 +229,8 @@ impl PipelineKey {
             write_mask: pixel.write_mask,
             lighting: points.lighting().map(LightKey::new),
             fog: points.fog().map(|f| f.source),
+            fog_step: points.fog().is_some_and(|f| f.params.step),
+            zero_rhw_drawn: points.zero_rhw_drawn(),
         }
     }
 

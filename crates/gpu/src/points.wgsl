@@ -380,7 +380,10 @@ fn light_vertex(eye: vec3f, normal: vec3f, diffuse: u32, specular: u32) -> vec2u
 // core::fog::fog_factor (SPEC 9.3) of distance `d` with the draw's FOG_FORMULA.
 fn fog_factor(d: f32) -> f32 {
     var f = 1.0;
-    if FOG_FORMULA == 3u {
+    if FOG_FORMULA == 3u && FOG_STEP {
+        // core FogParams::step (SPEC 9.3): FOGSTART == FOGEND as a step at FOGEND.
+        f = select(0.0, 1.0, d < U.power_fog.y);
+    } else if FOG_FORMULA == 3u {
         f = (U.power_fog.y - d) * U.power_fog.z;
     } else if FOG_FORMULA == 1u {
         f = exp(-(d * U.power_fog.w));
@@ -402,7 +405,7 @@ fn point_fog(eye: vec3f, z: f32, w: f32, specular: u32) -> f32 {
         if HAS_SPECULAR {
             return unpack_color(specular).a;
         }
-        return 1.0;
+        return FOG_WITHOUT_SPECULAR;
     }
     if FOG_SOURCE == 2u {
         if FOG_RANGE {
@@ -441,18 +444,21 @@ fn point_stage(index: u32) -> Point {
     var eye = vec4f(0.0);
     var w = 0.0;
     if PRETRANSFORMED {
-        // SPEC 3.1: w = 1/RHW must be positive; depth range checked in screen space.
+        // core PointSetup::keeps_pretransformed (SPEC 3.1): RHW positive, or 0 or -0 drawn as
+        // RHW 1 under ZERO_RHW_DRAWN; depth range checked in screen space.
         p.x = pos.x;
         p.y = pos.y;
         p.z = pos.z;
         // RHW's sign from its bits: a subnormal RHW is positive even where arithmetic flushes
         // it to 0.
         let rhw = bitcast<u32>(pos.w);
-        if rhw == 0u || rhw >= 0x80000000u || (clipping && !(U.depth.x <= p.z && p.z <= U.depth.y)) {
+        let zero = (rhw & 0x7FFFFFFFu) == 0u;
+        let kept = select(rhw < 0x80000000u, ZERO_RHW_DRAWN, zero);
+        if !kept || (clipping && !(U.depth.x <= p.z && p.z <= U.depth.y)) {
             return dropped();
         }
         p.size = final_size(si, 0.0);
-        w = 1.0 / pos.w;
+        w = select(1.0 / pos.w, 1.0, zero);
     } else {
         // SPEC 3.1: subnormal coordinates count as zero, on every GPU (the uniforms' matrices
         // come flushed from core::point).

@@ -196,13 +196,21 @@ fn gen_shade(key: &PipelineKey, out: &mut String) {
             "        {dest} = clamp(vec4f(rgb, alpha), vec4f(0.0), vec4f(1.0));\n    }}"
         );
     }
-    if key.specular {
-        out.push_str(
-            "    current = vec4f(min(current.rgb + specular.rgb, vec3f(1.0)), current.a);\n",
-        );
-    }
-    if key.fog.is_some() {
+    // core PixelSetup::shade (SPEC 5.3): the sum clamped before fog, or fogged as it is and
+    // clamped after (the `specular_fog` behaviour).
+    if key.specular_unclamped {
+        out.push_str("    current = vec4f(current.rgb + specular.rgb, current.a);\n");
         out.push_str("    current = fog_blend(current, fog);\n");
+        out.push_str("    current = vec4f(min(current.rgb, vec3f(1.0)), current.a);\n");
+    } else {
+        if key.specular {
+            out.push_str(
+                "    current = vec4f(min(current.rgb + specular.rgb, vec3f(1.0)), current.a);\n",
+            );
+        }
+        if key.fog.is_some() {
+            out.push_str("    current = fog_blend(current, fog);\n");
+        }
     }
     out.push_str("    return current;\n}\n\n");
 }
@@ -428,11 +436,16 @@ fn header(key: &PipelineKey, out: &mut String) {
     // formula's D3DFOGMODE.
     let (fog_source, fog_formula, fog_range, fog_w) = match key.fog {
         None => (0, FogMode::None, false, false),
-        Some(FogSource::SpecularAlpha) => (1, FogMode::None, false, false),
+        Some(FogSource::SpecularAlpha { .. }) => (1, FogMode::None, false, false),
         Some(FogSource::Vertex { formula, range }) => (2, formula, range, false),
         Some(FogSource::Table { formula, w }) => (3, formula, false, w),
     };
-    let consts: [(&str, &str, String); 41] = [
+    // core FogWithoutSpecular::factor (SPEC 9.2).
+    let fog_without_specular = match key.fog {
+        Some(FogSource::SpecularAlpha { without }) => without.factor(),
+        _ => 1.0,
+    };
+    let consts: [(&str, &str, String); 44] = [
         ("INV255", "f32", f32_literal(1.0 / 255.0)),
         // SPEC 5.2: texture coordinates are clamped to this magnitude before scaling.
         ("COORD_LIMIT", "f32", f32_literal(COORD_LIMIT)),
@@ -507,6 +520,14 @@ fn header(key: &PipelineKey, out: &mut String) {
         ("FOG_FORMULA", "u32", format!("{}u", fog_formula as u32)),
         ("FOG_RANGE", "bool", fog_range.to_string()),
         ("FOG_W", "bool", fog_w.to_string()),
+        (
+            "FOG_WITHOUT_SPECULAR",
+            "f32",
+            f32_literal(fog_without_specular),
+        ),
+        ("FOG_STEP", "bool", key.fog_step.to_string()),
+        // SPEC 3.1: the `zero_rhw` behaviour.
+        ("ZERO_RHW_DRAWN", "bool", key.zero_rhw_drawn.to_string()),
     ];
     for (name, ty, value) in consts {
         let _ = writeln!(out, "const {name}: {ty} = {value};");

@@ -106,6 +106,7 @@ pub fn animate(
         format: None,
         frames,
         compression: pointillist_image::png::Compression::Fast,
+        behaviours: Vec::new(),
     };
     let mut session = Session::default();
     let result =

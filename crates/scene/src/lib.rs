@@ -39,6 +39,7 @@ mod reader;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use pointillist_core::Behaviours;
 use pointillist_core::caps::Caps;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::light::{Light, Material};
@@ -415,6 +416,8 @@ pub struct Scene {
     pub api: Api,
     /// The caps of the emulated device: the profile with the `[caps]` overrides applied.
     pub caps: Caps,
+    /// The device behaviour switches, as `[behaviour]` sets them (the defaults otherwise).
+    pub behaviours: Behaviours,
     /// The render target.
     pub target: TargetDesc,
     /// The calls, in order: a clear, the top-level state, then each draw's changes and the draw.
@@ -498,6 +501,7 @@ impl Scene {
         DeviceDesc {
             api: self.api,
             caps: self.caps,
+            behaviours: self.behaviours,
             width: self.target.width,
             height: self.target.height,
             clear_color: self.target.clear,

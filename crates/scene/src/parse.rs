@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pointillist_core::Viewport;
+use pointillist_core::behaviour::{BEHAVIOURS, Behaviours};
 use pointillist_core::caps::{Caps, VertexProcessing};
 use pointillist_core::states::Api;
 use pointillist_core::texture::Texture;
@@ -41,6 +42,7 @@ const TOP_KEYS: &[&str] = &[
     "api",
     "target",
     "caps",
+    "behaviour",
     "viewport",
     "transform",
     "states",
@@ -259,6 +261,10 @@ impl Parser<'_> {
             None => Caps::reference(),
             Some(v) => self.caps(v)?,
         };
+        let behaviours = match f.get("behaviour") {
+            None => Behaviours::default(),
+            Some(v) => self.behaviours(v)?,
+        };
         self.push(
             Command::Clear {
                 color: self.target.clear,
@@ -321,6 +327,7 @@ impl Parser<'_> {
             file: self.src.file().to_path_buf(),
             api,
             caps,
+            behaviours,
             target: self.target,
             steps: std::mem::take(&mut self.steps),
             emitters,
@@ -472,6 +479,25 @@ impl Parser<'_> {
             };
         }
         Ok(caps)
+    }
+
+    /// `[behaviour]`: `NAME = "OPTION"` for the device behaviour switches (SPEC "Device
+    /// behaviours"), each name and option checked against core's table.
+    fn behaviours(&self, v: &Value<'_>) -> Result<Behaviours, SceneError> {
+        let src = &self.src;
+        let names: Vec<&str> = BEHAVIOURS.iter().map(|d| d.name).collect();
+        let f = fields(src, v, "behaviour", &names)?;
+        let mut behaviours = Behaviours::default();
+        for def in &BEHAVIOURS {
+            if let Some(v) = f.get(def.name) {
+                let path = f.path(def.name);
+                let option = string(src, v, &path)?;
+                behaviours
+                    .set(def.name, option)
+                    .map_err(|e| src.error(&v.span(), &path, e.to_string()))?;
+            }
+        }
+        Ok(behaviours)
     }
 
     /// The state changes of the top level (`top`) or of one draw, in a fixed order: render

@@ -54,6 +54,37 @@ fn rs(state: RenderState, value: u32) -> Command {
 }
 
 #[test]
+fn behaviour_table_sets_switches_and_names_bad_ones() {
+    let s = ok("[behaviour]\nspecular_fog = \"clamped\"\nminimum_size = \"one_pixel\"\n");
+    assert_eq!(s.behaviours.get("specular_fog"), Some("clamped"));
+    assert_eq!(s.behaviours.get("minimum_size"), Some("one_pixel"));
+    assert_eq!(s.behaviours.get("fog_without_specular"), Some("fogged"));
+    assert_eq!(s.device_desc().behaviours, s.behaviours);
+    assert_eq!(ok("").behaviours, pointillist_core::Behaviours::default());
+    let e = err("[behaviour]\nspecular_fog = \"maybe\"\n");
+    assert_eq!(
+        e,
+        "tests/data/test.toml:6:16: behaviour.specular_fog: unknown option `maybe` of behaviour \
+         `specular_fog` (expected one of: unclamped, clamped)"
+    );
+    let e = err("[behaviour]\nfog = \"on\"\n");
+    assert!(
+        e.starts_with("tests/data/test.toml:6:1: behaviour.fog: unknown key (expected one of: "),
+        "{e}"
+    );
+    let e = err("[behaviour]\nminimum_size = 1\n");
+    assert!(
+        e.starts_with("tests/data/test.toml:6:16: behaviour.minimum_size: "),
+        "{e}"
+    );
+    let e = err("behaviour = 3\n");
+    assert!(
+        e.starts_with("tests/data/test.toml:5:13: behaviour: "),
+        "{e}"
+    );
+}
+
+#[test]
 fn minimal_scene_clears_and_sets_the_whole_viewport() {
     let s = ok("");
     assert_eq!(s.api, Api::D3d9);

@@ -35,6 +35,8 @@ cases!("2-size":
     max_point_size_1_draws_one_pixel,
     max_wins_over_min,
     min_raises_the_size,
+    minimum_size_one_pixel_below_one_pixel,
+    minimum_size_one_pixel_size_zero,
     nan_min_is_no_lower_bound,
     nan_size_counts_as_zero,
     nan_size_is_raised_to_min,

@@ -10,6 +10,7 @@ mod vertex;
 use std::fmt;
 use std::sync::Arc;
 
+use crate::behaviour::{BehaviourSet, Behaviours};
 use crate::caps::Caps;
 use crate::draw::DrawSetup;
 use crate::fvf::{Fvf, FvfError};
@@ -96,6 +97,8 @@ pub struct DeviceDesc {
     pub api: Api,
     /// The caps to emulate.
     pub caps: Caps,
+    /// Where real devices differ: the behaviour to emulate (SPEC "Device behaviours").
+    pub behaviours: Behaviours,
     /// Target width in pixels.
     pub width: u32,
     /// Target height in pixels.
@@ -112,6 +115,7 @@ impl DeviceDesc {
         DeviceDesc {
             api: Api::D3d9,
             caps: Caps::reference(),
+            behaviours: Behaviours::default(),
             width,
             height,
             clear_color: 0xFF00_0000,
@@ -338,6 +342,7 @@ pub struct Device<B: Backend> {
     noticed_stage: [bool; TextureStageState::COUNT],
     noticed_sampler: [bool; SamplerState::COUNT],
     noticed_unlit: bool,
+    behaviours_read: BehaviourSet,
 }
 
 impl<B: Backend> Device<B> {
@@ -348,14 +353,17 @@ impl<B: Backend> Device<B> {
             return Err(DeviceError::TargetSize { width, height });
         }
         backend.create_target(width, height, desc.clear_color, desc.clear_depth)?;
+        let mut state = DeviceState::new(desc.api, desc.caps, width, height);
+        state.behaviours = desc.behaviours;
         Ok(Device {
             backend,
-            state: DeviceState::new(desc.api, desc.caps, width, height),
+            state,
             notices: Vec::new(),
             noticed_render: [false; RenderState::COUNT],
             noticed_stage: [false; TextureStageState::COUNT],
             noticed_sampler: [false; SamplerState::COUNT],
             noticed_unlit: false,
+            behaviours_read: BehaviourSet::default(),
         })
     }
 
@@ -365,7 +373,9 @@ impl<B: Backend> Device<B> {
     /// before (the next frame of an animation) starts from the same state as on a new one.
     pub fn reset_state(&mut self) {
         let s = &self.state;
+        let behaviours = s.behaviours;
         self.state = DeviceState::new(s.api, s.caps, s.target_width, s.target_height);
+        self.state.behaviours = behaviours;
     }
 
     /// GetDeviceCaps: the caps the device reports.
@@ -594,8 +604,15 @@ impl<B: Backend> Device<B> {
             return Ok(());
         }
         self.note_unlit(fvf);
-        self.backend
-            .draw_points(&DrawSetup::new(&self.state, fvf), vertices)
+        let draw = DrawSetup::new(&self.state, fvf);
+        self.behaviours_read = self.behaviours_read.union(draw.behaviours_read());
+        self.backend.draw_points(&draw, vertices)
+    }
+
+    /// The device behaviour switches (SPEC 10) whose options could have drawn this device's
+    /// draws so far differently ([`DrawSetup::behaviours_read`]).
+    pub fn behaviours_read(&self) -> BehaviourSet {
+        self.behaviours_read
     }
 
     /// DrawPrimitiveUP(D3DPT_POINTLIST) from typed vertices.

@@ -1,0 +1,497 @@
+//! Device behaviour switches: where real D3D9 devices differ, or no record decides, and no cap
+//! tells them apart (docs/spec/SPEC.md, "Device behaviours").
+//!
+//! Each switch has named options, a default (the option with the strongest evidence) and the
+//! evidence behind it ([`Evidence`]). A [`Behaviours`] holds one option per switch; it is part
+//! of what a device is created with ([`crate::DeviceDesc`]) and every rule that depends on a
+//! switch reads it here, on both backends.
+
+use std::fmt;
+
+/// How strongly a rule is known, strongest first (docs/spec/SOURCES.md).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Evidence {
+    /// A record of real Windows drivers (Wine's d3d8/d3d9 visual tests, run on Windows).
+    Hardware,
+    /// Microsoft's own driver code (microsoft/D3D9On12; WARP as the visual tests record it).
+    MicrosoftDriver,
+    /// Microsoft's documents.
+    Documented,
+    /// What independent implementations (Wine and DXVK) both do.
+    Implementations,
+    /// pointillist's own decision, with its reason.
+    Choice,
+}
+
+impl Evidence {
+    /// The grade's name as docs/spec/SPEC.md and `pointillist behaviours --json` write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Evidence::Hardware => "hardware",
+            Evidence::MicrosoftDriver => "microsoft-driver",
+            Evidence::Documented => "documented",
+            Evidence::Implementations => "implementations",
+            Evidence::Choice => "choice",
+        }
+    }
+}
+
+/// One behaviour switch: its name, options, default and evidence.
+#[derive(Debug)]
+pub struct BehaviourDef {
+    /// The switch's name (`[behaviour]` key, `--behaviour NAME=OPTION`).
+    pub name: &'static str,
+    /// What the switch decides, one sentence.
+    pub summary: &'static str,
+    /// The SPEC rule it belongs to.
+    pub rule: &'static str,
+    /// The options, each with what it draws.
+    pub options: &'static [(&'static str, &'static str)],
+    /// The index of the default in `options`.
+    pub default: usize,
+    /// The evidence grade of the default.
+    pub evidence: Evidence,
+    /// The sources, most decisive first.
+    pub sources: &'static [&'static str],
+}
+
+impl BehaviourDef {
+    /// The option names.
+    pub fn option_names(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.options.iter().map(|o| o.0)
+    }
+
+    /// The default option's name.
+    pub fn default_name(&self) -> &'static str {
+        self.options[self.default].0
+    }
+}
+
+macro_rules! switches {
+    ($(
+        $(#[$doc:meta])*
+        $get:ident = $index:literal, $ty:ident {
+            $($(#[$odoc:meta])* $opt:ident),+ $(,)?
+        }
+    )*) => {
+        $(
+            $(#[$doc])*
+            #[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+            pub enum $ty {
+                $($(#[$odoc])* $opt),+
+            }
+
+            impl $ty {
+                const ALL: &'static [$ty] = &[$($ty::$opt),+];
+            }
+
+            const _: () = assert!($ty::ALL.len() == BEHAVIOURS[$index].options.len());
+        )*
+
+        impl Behaviours {
+            $(
+                $(#[$doc])*
+                #[inline]
+                pub fn $get(&self) -> $ty {
+                    $ty::ALL[self.options[$index] as usize]
+                }
+            )*
+        }
+    };
+}
+
+/// One option per switch; [`Behaviours::default`] is every switch's default.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Behaviours {
+    options: [u8; BEHAVIOURS.len()],
+}
+
+switches! {
+    /// SPEC 5.3 / 9.1: fog of a diffuse + specular sum above 1.
+    specular_fog = 0, SpecularFog {
+        /// The sum is fogged as it is and clamped when it is written.
+        Unclamped,
+        /// The sum is clamped to 1 before fog.
+        Clamped,
+    }
+    /// SPEC 9.2: the fog factor of a vertex without SPECULAR where the factor is the specular
+    /// alpha (both fog modes NONE, or vertex fog on pre-transformed vertices).
+    fog_without_specular = 1, FogWithoutSpecular {
+        /// Factor 0: the point is fogged completely.
+        Fogged,
+        /// Factor 1: the point is not fogged.
+        Unfogged,
+    }
+    /// SPEC 9.3: LINEAR fog with FOGSTART == FOGEND.
+    fog_start_equals_end = 3, FogStartEqualsEnd {
+        /// Vertex fog fogs every point; table fog fogs from FOGEND on (a step).
+        VertexFoggedTableStep,
+        /// Every point is fogged, vertex and table fog alike.
+        Fogged,
+        /// A step for both: points nearer than FOGEND unfogged, the rest fogged.
+        Step,
+    }
+    /// SPEC 3.1: a pre-transformed point whose RHW is 0 or -0.
+    zero_rhw = 4, ZeroRhw {
+        /// Drawn, as if RHW were 1.
+        Drawn,
+        /// Dropped.
+        Dropped,
+    }
+    /// SPEC 2.5: a point whose size is below one pixel.
+    minimum_size = 2, MinimumSize {
+        /// The square covers what it covers: size 0 draws nothing.
+        None,
+        /// Sizes below 1 draw as 1: every point covers at least one pixel.
+        OnePixel,
+    }
+}
+
+/// Every switch; the index of each is the one its accessor on [`Behaviours`] reads.
+pub const BEHAVIOURS: [BehaviourDef; 5] = [
+    BehaviourDef {
+        name: "specular_fog",
+        summary: "fog of a diffuse + specular sum above 1 (SPECULARENABLE and FOGENABLE)",
+        rule: "SPEC 5.3, 9.1",
+        options: &[
+            (
+                "unclamped",
+                "the sum is fogged as it is and clamped when written",
+            ),
+            ("clamped", "the sum is clamped to 1, then fogged"),
+        ],
+        default: 0,
+        evidence: Evidence::Implementations,
+        sources: &[
+            "Wine dlls/wined3d/glsl_shader.c, shader_glsl_generate_ffp_fragment_shader: the output is `specular * specular_enable + ret`, then fog, unclamped",
+            "DXVK 2.6.2 src/d3d9/d3d9_fixed_function.cpp, D3D9FFShaderCompiler::compilePS: `current + specular`, then DoFixedFunctionFog, unclamped",
+            "no hardware record known",
+        ],
+    },
+    BehaviourDef {
+        name: "fog_without_specular",
+        summary: "fog factor of a vertex without SPECULAR where the factor is the specular alpha",
+        rule: "SPEC 9.2",
+        options: &[
+            ("fogged", "factor 0: the point is fogged completely"),
+            ("unfogged", "factor 1: the point is not fogged"),
+        ],
+        default: 0,
+        evidence: Evidence::Implementations,
+        sources: &[
+            "DXVK issue 5470 (2026): native D3D9 on NVIDIA fogs a pre-transformed draw without SPECULAR completely",
+            "Wine dlls/wined3d: a vertex without SPECULAR has specular (0, 0, 0, 0), fog factor 0",
+            "DXVK 2.6.2 src/d3d9/d3d9_fixed_function.cpp, DoFixedFunctionFog: factor 1 without COLOR1",
+        ],
+    },
+    BehaviourDef {
+        name: "minimum_size",
+        summary: "a point whose size is below one pixel",
+        rule: "SPEC 2.5",
+        options: &[
+            (
+                "none",
+                "the square covers what it covers: size 0 draws nothing",
+            ),
+            ("one_pixel", "sizes below 1 draw as 1"),
+        ],
+        default: 0,
+        evidence: Evidence::Hardware,
+        sources: &[
+            "Wine dlls/d3d9/tests/visual.c, pointsize_test: size 0 draws nothing on the Windows drivers recorded",
+            "WARP (the same test's broken()) and microsoft/D3D9On12 clamp sizes to at least 1",
+        ],
+    },
+    BehaviourDef {
+        name: "fog_start_equals_end",
+        summary: "LINEAR fog with FOGSTART == FOGEND",
+        rule: "SPEC 9.3",
+        options: &[
+            (
+                "vertex_fogged_table_step",
+                "vertex fog fogs every point; table fog fogs from FOGEND on",
+            ),
+            (
+                "fogged",
+                "every point is fogged, vertex and table fog alike",
+            ),
+            (
+                "step",
+                "points nearer than FOGEND are unfogged, the rest fogged, both modes",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Hardware,
+        sources: &[
+            "Wine dlls/d3d9/tests/visual.c, fog_test: start == end vertex fog covers even points in front of the start",
+            "Wine dlls/d3d9/tests/visual.c, fog_special_test: table fog with start == end 0.5 leaves z below 0.5 unfogged",
+            "microsoft/D3D9On12 ShaderConv/psconv.cpp, CPSContext::ComputePixelFog: d >= FOGEND gives 0, FOGSTART >= d gives 1",
+            "DXVK (2.6.2 by an infinite scale, master ef81c30f) steps for both modes",
+        ],
+    },
+    BehaviourDef {
+        name: "zero_rhw",
+        summary: "a pre-transformed (XYZRHW) point whose RHW is 0 or -0",
+        rule: "SPEC 3.1",
+        options: &[
+            ("drawn", "drawn, as if RHW were 1"),
+            ("dropped", "dropped, like a negative RHW"),
+        ],
+        default: 0,
+        evidence: Evidence::Hardware,
+        sources: &[
+            "Wine dlls/d3d9/tests/visual.c, test_table_fog_zw: XYZRHW quads with RHW 0 are drawn on Windows drivers",
+            "Wine dlls/wined3d/ffp_hlsl.c and DXVK 2.6.2 d3d9_fixed_function.cpp draw RHW 0 as RHW 1",
+        ],
+    },
+];
+
+impl Default for Behaviours {
+    fn default() -> Self {
+        let mut options = [0u8; BEHAVIOURS.len()];
+        for (o, def) in options.iter_mut().zip(&BEHAVIOURS) {
+            *o = def.default as u8;
+        }
+        Behaviours { options }
+    }
+}
+
+/// A set of switches: those a draw's pixels depend on ([`crate::DrawSetup::behaviours_read`]).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct BehaviourSet(u32);
+
+impl BehaviourSet {
+    /// Adds the switch `name` (a name of [`BEHAVIOURS`]).
+    pub fn insert(&mut self, name: &str) {
+        if let Some(i) = BEHAVIOURS.iter().position(|d| d.name == name) {
+            self.0 |= 1 << i;
+        }
+    }
+
+    /// True when the set holds the switch `name`.
+    pub fn contains(&self, name: &str) -> bool {
+        BEHAVIOURS
+            .iter()
+            .position(|d| d.name == name)
+            .is_some_and(|i| self.0 & (1 << i) != 0)
+    }
+
+    /// Both sets together.
+    pub fn union(self, other: BehaviourSet) -> BehaviourSet {
+        BehaviourSet(self.0 | other.0)
+    }
+
+    /// True when the set holds no switch.
+    pub fn is_empty(&self) -> bool {
+        self.0 == 0
+    }
+}
+
+/// Why a switch could not be set.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum BehaviourError {
+    /// No switch has this name.
+    UnknownSwitch(String),
+    /// The switch has no option of this name.
+    UnknownOption {
+        /// The switch.
+        switch: &'static str,
+        /// The option asked for.
+        option: String,
+    },
+    /// Not `NAME=OPTION`.
+    Syntax(String),
+}
+
+impl fmt::Display for BehaviourError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names = |it: &mut dyn Iterator<Item = &'static str>| it.collect::<Vec<_>>().join(", ");
+        match self {
+            BehaviourError::UnknownSwitch(name) => write!(
+                f,
+                "unknown behaviour `{}` (expected one of: {})",
+                name.escape_debug(),
+                names(&mut BEHAVIOURS.iter().map(|d| d.name))
+            ),
+            BehaviourError::UnknownOption { switch, option } => {
+                let def = BehaviourDef::find(switch).expect("a known switch");
+                write!(
+                    f,
+                    "unknown option `{}` of behaviour `{switch}` (expected one of: {})",
+                    option.escape_debug(),
+                    names(&mut def.option_names())
+                )
+            }
+            BehaviourError::Syntax(s) => write!(
+                f,
+                "`{}` is not NAME=OPTION (see `pointillist behaviours`)",
+                s.escape_debug()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for BehaviourError {}
+
+/// A checked `NAME=OPTION`: a switch and one of its options.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct BehaviourSetting {
+    /// The switch.
+    pub name: &'static str,
+    /// The option.
+    pub option: &'static str,
+}
+
+impl std::str::FromStr for BehaviourSetting {
+    type Err = BehaviourError;
+
+    fn from_str(assignment: &str) -> Result<Self, BehaviourError> {
+        let (name, option) = assignment
+            .split_once('=')
+            .ok_or_else(|| BehaviourError::Syntax(assignment.to_string()))?;
+        let (name, option) = (name.trim(), option.trim());
+        let def =
+            BehaviourDef::find(name).ok_or_else(|| BehaviourError::UnknownSwitch(name.into()))?;
+        let option = def.option_names().find(|o| *o == option).ok_or_else(|| {
+            BehaviourError::UnknownOption {
+                switch: def.name,
+                option: option.to_string(),
+            }
+        })?;
+        Ok(BehaviourSetting {
+            name: def.name,
+            option,
+        })
+    }
+}
+
+impl BehaviourDef {
+    /// The switch named `name`.
+    pub fn find(name: &str) -> Option<&'static BehaviourDef> {
+        BEHAVIOURS.iter().find(|d| d.name == name)
+    }
+}
+
+impl Behaviours {
+    /// The option `name` is set to.
+    pub fn get(&self, name: &str) -> Option<&'static str> {
+        let i = BEHAVIOURS.iter().position(|d| d.name == name)?;
+        Some(BEHAVIOURS[i].options[self.options[i] as usize].0)
+    }
+
+    /// Sets switch `name` to `option`.
+    pub fn set(&mut self, name: &str, option: &str) -> Result<(), BehaviourError> {
+        let i = BEHAVIOURS
+            .iter()
+            .position(|d| d.name == name)
+            .ok_or_else(|| BehaviourError::UnknownSwitch(name.to_string()))?;
+        let def = &BEHAVIOURS[i];
+        let o = def
+            .options
+            .iter()
+            .position(|o| o.0 == option)
+            .ok_or_else(|| BehaviourError::UnknownOption {
+                switch: def.name,
+                option: option.to_string(),
+            })?;
+        self.options[i] = o as u8;
+        Ok(())
+    }
+
+    /// Applies `NAME=OPTION` (the command line's `--behaviour`).
+    pub fn apply(&mut self, assignment: &str) -> Result<(), BehaviourError> {
+        let setting: BehaviourSetting = assignment.parse()?;
+        self.set(setting.name, setting.option)
+    }
+
+    /// These behaviours with `settings` applied in order (`--behaviour` over a scene's
+    /// `[behaviour]`).
+    pub fn with(mut self, settings: &[BehaviourSetting]) -> Behaviours {
+        for s in settings {
+            self.set(s.name, s.option)
+                .expect("a BehaviourSetting names a switch and one of its options");
+        }
+        self
+    }
+
+    /// Every switch with the option this holds, in [`BEHAVIOURS`] order.
+    pub fn iter(&self) -> impl Iterator<Item = (&'static BehaviourDef, &'static str)> + '_ {
+        BEHAVIOURS
+            .iter()
+            .zip(self.options)
+            .map(|(d, o)| (d, d.options[o as usize].0))
+    }
+
+    /// The switches whose option differs from the default, as `(name, option)`.
+    pub fn changed(&self) -> impl Iterator<Item = (&'static str, &'static str)> + '_ {
+        self.iter()
+            .filter(|(d, o)| *o != d.default_name())
+            .map(|(d, o)| (d.name, o))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_switch_is_consistent() {
+        for (i, def) in BEHAVIOURS.iter().enumerate() {
+            assert!(def.options.len() >= 2, "{}", def.name);
+            assert!(def.default < def.options.len(), "{}", def.name);
+            assert!(!def.sources.is_empty(), "{}", def.name);
+            let mut b = Behaviours::default();
+            assert_eq!(b.options[i] as usize, def.default, "{}", def.name);
+            for (o, _) in def.options {
+                b.set(def.name, o).unwrap();
+                assert_eq!(b.get(def.name), Some(*o));
+            }
+        }
+        let names: Vec<_> = BEHAVIOURS.iter().map(|d| d.name).collect();
+        let mut sorted = names.clone();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), names.len(), "duplicate switch names");
+    }
+
+    #[test]
+    fn typed_accessors_follow_the_table() {
+        let mut b = Behaviours::default();
+        assert_eq!(b.specular_fog(), SpecularFog::Unclamped);
+        b.apply("specular_fog=clamped").unwrap();
+        assert_eq!(b.specular_fog(), SpecularFog::Clamped);
+        b.apply(" minimum_size = one_pixel ").unwrap();
+        assert_eq!(b.minimum_size(), MinimumSize::OnePixel);
+        b.set("fog_without_specular", "unfogged").unwrap();
+        assert_eq!(b.fog_without_specular(), FogWithoutSpecular::Unfogged);
+        assert_eq!(
+            b.changed().collect::<Vec<_>>(),
+            [
+                ("specular_fog", "clamped"),
+                ("fog_without_specular", "unfogged"),
+                ("minimum_size", "one_pixel")
+            ]
+        );
+    }
+
+    #[test]
+    fn errors_name_what_is_wrong() {
+        let mut b = Behaviours::default();
+        let e = b.apply("specular_fog").unwrap_err().to_string();
+        assert!(e.contains("not NAME=OPTION"), "{e}");
+        let e = b.apply("fog=on").unwrap_err().to_string();
+        assert!(
+            e.contains("unknown behaviour `fog`") && e.contains("specular_fog"),
+            "{e}"
+        );
+        let e = b.apply("specular_fog=maybe").unwrap_err().to_string();
+        assert!(
+            e.contains("unknown option `maybe` of behaviour `specular_fog`")
+                && e.contains("unclamped, clamped"),
+            "{e}"
+        );
+        let e = b.apply("specular_fog=\x1b[2J").unwrap_err().to_string();
+        assert!(!e.contains('\x1b'), "{e}");
+        assert_eq!(b, Behaviours::default());
+    }
+}
