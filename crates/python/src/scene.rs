@@ -24,40 +24,42 @@ pub fn render_scene<'py>(
     backend: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let backend = crate::backend::backend(backend)?;
-    let target = py
-        .detach(|| -> Result<_, String> {
-            let scene = pointillist_scene::load(&path).map_err(|e| e.to_string())?;
-            let name = path.display();
-            let mut device = Device::new(backend, scene.device_desc())
-                .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
-            if scene.is_animated() || frame.is_some() {
-                let frame = frame.unwrap_or(0);
-                let frames = scene.animation.frames;
-                if frame >= frames {
-                    return Err(format!(
-                        "{name}: frame {frame} is outside 0..={} ([animation] frames = {frames})",
-                        frames - 1
-                    ));
-                }
-                let mut system = scene.particle_system().map_err(|e| e.to_string())?;
-                let mut buffers = pointillist_particles::DrawBuffers::new();
-                scene
-                    .render_frame(&mut device, &mut system, &mut buffers, frame)
-                    .map_err(|e| e.to_string())?;
-            } else {
-                scene.replay(&mut device).map_err(|e| e.to_string())?;
+    let (rgba, width, height) = crate::interrupt::detach(py, || -> Result<_, String> {
+        let scene = pointillist_scene::load(&path).map_err(|e| e.to_string())?;
+        let name = path.display();
+        let mut device = Device::new(backend, scene.device_desc())
+            .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
+        if scene.is_animated() || frame.is_some() {
+            let frame = frame.unwrap_or(0);
+            let frames = scene.animation.frames;
+            if frame >= frames {
+                return Err(format!(
+                    "{name}: frame {frame} is outside 0..={} ([animation] frames = {frames})",
+                    frames - 1
+                ));
             }
-            device
-                .read_target()
-                .map_err(|e| format!("{name}: cannot read the render target: {e}"))
-        })
-        .map_err(SceneError::new_err)?;
-    crate::image(py, target.to_rgba8(), target.width, target.height)
+            let mut system = scene.particle_system().map_err(|e| e.to_string())?;
+            let mut buffers = pointillist_particles::DrawBuffers::new();
+            scene
+                .render_frame(&mut device, &mut system, &mut buffers, frame)
+                .map_err(|e| e.to_string())?;
+        } else {
+            scene.replay(&mut device).map_err(|e| e.to_string())?;
+        }
+        // Converted where it lies, as `pointillist render` does: no copy of colour and depth.
+        let target = device
+            .into_target()
+            .map_err(|e| format!("{name}: cannot read the render target: {e}"))?;
+        let (width, height) = (target.width, target.height);
+        Ok((target.into_rgba8(), width, height))
+    })?
+    .map_err(SceneError::new_err)?;
+    crate::image_words(py, rgba.into_words(), width, height)
 }
 
 /// Python's side of an animation: warnings kept for `warnings.warn`, and Ctrl-C (or any
-/// signal handler's exception) checked between frames, which stops the animation with
-/// nothing written.
+/// signal handler's exception) checked between frames (and between the pieces of a draw,
+/// [`crate::interrupt`]), which stops the animation with nothing written.
 #[derive(Default)]
 struct Session {
     warnings: Vec<String>,
@@ -108,8 +110,9 @@ pub fn animate(
         compression: pointillist_image::png::Compression::Fast,
     };
     let mut session = Session::default();
-    let result =
-        py.detach(|| pointillist_animation::animate(&request, || Ok(backend), &mut session));
+    let result = crate::interrupt::detach(py, || {
+        pointillist_animation::animate(&request, || Ok(backend), &mut session)
+    });
     for text in &session.warnings {
         PyErr::warn(
             py,
@@ -121,5 +124,5 @@ pub fn animate(
     if let Some(interrupt) = session.interrupt {
         return Err(interrupt);
     }
-    result.map(|_| ()).map_err(SceneError::new_err)
+    result?.map(|_| ()).map_err(SceneError::new_err)
 }
