@@ -556,7 +556,7 @@ fn _save_png(py: Python<'_>, path: std::path::PathBuf, rgba: &Bound<'_, PyAny>) 
     let a = a.try_readonly()?;
     let bytes = contiguous(a.as_slice())?;
     py.detach(|| pointillist_image::write_png_atomic(&path, w, h, bytes))
-        .map_err(|e| errors::Error::new_err(format!("cannot write {}: {e}", path.display())))
+        .map_err(|e| errors::Error::new_err(e.to_string()))
 }
 
 /// The vector level the CPU backend's wide spans run on ("avx512", "avx2", "sse2" or "portable").

@@ -8,6 +8,7 @@ use pointillist_core::device::Device;
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
+use crate::arrays::{arg, integer};
 use crate::errors::SceneError;
 
 /// Renders a scene file (docs/spec/SCENE.md) and returns its target as an ``(height, width,
@@ -16,14 +17,19 @@ use crate::errors::SceneError;
 /// particles simulated to ``warmup + frame / fps`` seconds, the camera at ``frame / fps``.
 /// Errors raise ``pointillist.SceneError`` with the CLI's message (file, line, column, key).
 #[pyfunction]
-#[pyo3(signature = (path, frame=None, *, backend="cpu"))]
+#[pyo3(signature = (path, frame=None, *, backend=None), text_signature = "(path, frame=None, *, backend='cpu')")]
 pub fn render_scene<'py>(
     py: Python<'py>,
-    path: PathBuf,
-    frame: Option<u32>,
-    backend: &str,
+    path: &Bound<'py, PyAny>,
+    frame: Option<&Bound<'py, PyAny>>,
+    backend: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let backend = crate::backend::backend(backend)?;
+    let path: PathBuf = arg("path", path, "a path (str or os.PathLike)")?;
+    let frame: Option<u32> = frame
+        .map(|f| integer("frame", f, 0, u32::MAX.into()))
+        .transpose()?;
+    let backend =
+        crate::backend::backend(&backend.map_or(Ok("cpu".into()), crate::backend::name)?)?;
     let (rgba, width, height) = crate::interrupt::detach(py, || -> Result<_, String> {
         let scene = pointillist_scene::load(&path).map_err(|e| e.to_string())?;
         let name = path.display();
@@ -88,20 +94,19 @@ impl Observer for Session {
 /// render. Errors raise ``pointillist.SceneError`` with the CLI's one-line message, and leave
 /// no file (nor part of one) behind; warnings go to ``warnings.warn``.
 #[pyfunction]
-#[pyo3(signature = (path, out, *, frames=None, backend="cpu"))]
+#[pyo3(signature = (path, out, *, frames=None, backend=None), text_signature = "(path, out, *, frames=None, backend='cpu')")]
 pub fn animate(
     py: Python<'_>,
     path: PathBuf,
     out: PathBuf,
-    frames: Option<u32>,
-    backend: &str,
+    frames: Option<&Bound<'_, PyAny>>,
+    backend: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
-    if frames == Some(0) {
-        return Err(pyo3::exceptions::PyValueError::new_err(
-            "frames must be at least 1",
-        ));
-    }
-    let backend = crate::backend::backend(backend)?;
+    let frames: Option<u32> = frames
+        .map(|f| integer("frames", f, 1, u32::MAX.into()))
+        .transpose()?;
+    let backend =
+        crate::backend::backend(&backend.map_or(Ok("cpu".into()), crate::backend::name)?)?;
     let request = Request {
         scene: path,
         output: out,

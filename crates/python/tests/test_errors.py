@@ -104,3 +104,12 @@ def test_sizes_and_names_of_any_value_are_one_clear_line():
     raises(ValueError, "x_range (-1e308, 1e308) is too wide: hi - lo overflows a float64",
            x_range=(-1e308, 1e308))
     raises(ValueError, "y_range (0, 5e-324) is too narrow", y_range=(0, 5e-324))
+
+
+def test_save_errors_name_the_path_once(tmp_path):
+    img = pointillist.points(X, X, width=4, height=4)
+    missing = tmp_path / "none" / "a.png"
+    with pytest.raises(pointillist.Error) as info:
+        img.save(missing)
+    assert str(info.value) == f"cannot write {missing}: folder {missing.parent} does not exist"
+    assert not missing.parent.exists()
