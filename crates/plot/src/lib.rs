@@ -42,7 +42,7 @@ use std::sync::Arc;
 
 use pointillist_core::color::argb_to_rgba8;
 use pointillist_core::device::{
-    Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, Viewport,
+    Backend, Device, DeviceDesc, DeviceError, DeviceState, MAX_TARGET_SIZE, RenderTarget, Viewport,
 };
 use pointillist_core::point::PixelRect;
 use pointillist_core::states::{
@@ -107,16 +107,38 @@ impl fmt::Display for PlotError {
                 )
             }
             PlotError::Nan { name, row } => write!(f, "{name}[{row}] is NaN"),
-            PlotError::Range { name, lo, hi } => write!(
-                f,
-                "{name} ({lo}, {hi}) must be two finite numbers, low below high"
-            ),
+            PlotError::Range { name, lo, hi } => {
+                let (l, h) = (short(*lo), short(*hi));
+                if lo.is_finite() && hi.is_finite() && lo < hi {
+                    let reason = if (hi - lo).is_finite() {
+                        "too narrow"
+                    } else {
+                        "too wide: hi - lo overflows a float64"
+                    };
+                    write!(f, "{name} ({l}, {h}) is {reason}")
+                } else {
+                    write!(
+                        f,
+                        "{name} ({l}, {h}) must be two finite numbers, low below high"
+                    )
+                }
+            }
             PlotError::Blend(name) => write!(
                 f,
                 "unknown blend \"{name}\" (expected \"add\", \"alpha\", \"max\" or \"replace\")"
             ),
             PlotError::Value(m) | PlotError::Combine(m) | PlotError::Device(m) => f.write_str(m),
         }
+    }
+}
+
+/// `v` in the shorter of its decimal and exponent forms (`1e308`, not 309 digits).
+fn short(v: f64) -> String {
+    let (decimal, exponent) = (v.to_string(), format!("{v:e}"));
+    if exponent.len() < decimal.len() {
+        exponent
+    } else {
+        decimal
     }
 }
 
@@ -381,6 +403,12 @@ impl Plot {
 
     /// Draws `points` on the CPU backend and returns the target as RGBA8 rows, top to bottom.
     pub fn render(&self, points: &Points<'_>) -> Result<Vec<u8>, PlotError> {
+        // The device's refusal of the size, before the image is allocated.
+        let sides = 1..=MAX_TARGET_SIZE;
+        if !(sides.contains(&self.width) && sides.contains(&self.height)) {
+            let (width, height) = (self.width, self.height);
+            return Err(DeviceError::TargetSize { width, height }.into());
+        }
         let mut out = vec![0u8; self.width as usize * self.height as usize * 4];
         self.render_into(points, &mut out)?;
         Ok(out)

@@ -236,6 +236,31 @@ fn bad_input_is_a_one_line_error() {
         ),
         "render target 0x4 is outside 1..=16384 per side"
     );
+    // Sizes whose image would overflow or exhaust memory: refused before it is allocated.
+    for (w, h) in [(u32::MAX, u32::MAX), (1 << 30, 16)] {
+        assert_eq!(
+            err(
+                &Points::new(Column::F32(&x), Column::F32(&x)),
+                &Plot::new(w, h)
+            ),
+            format!("render target {w}x{h} is outside 1..=16384 per side")
+        );
+    }
+    // Finite ranges whose span overflows, or is too small to scale: the reason, in short.
+    let spans = [
+        (-1e308, 1e308, "too wide: hi - lo overflows a float64"),
+        (0.0, 5e-324, "too narrow"),
+    ];
+    for (lo, hi, reason) in spans {
+        let ranged = Plot {
+            x_range: Some(DataRange { lo, hi }),
+            ..plot.clone()
+        };
+        assert_eq!(
+            err(&Points::new(Column::F32(&x), Column::F32(&x)), &ranged),
+            format!("x_range ({lo:e}, {hi:e}) is {reason}").replace("0e0", "0")
+        );
+    }
     assert_eq!(
         Blend::from_name("screen").unwrap_err(),
         PlotError::Blend("screen".into())

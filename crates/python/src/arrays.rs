@@ -7,6 +7,7 @@ use numpy::{
     Element, PyArray, PyArray2, PyArrayMethods, PyReadonlyArray, PyReadonlyArray1,
     PyUntypedArrayMethods,
 };
+use pointillist_core::device::MAX_TARGET_SIZE;
 use pointillist_plot::{Colors, Column, Sizes};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -177,21 +178,106 @@ impl ColorArg<'_> {
 
 /// A D3DCOLOR from a Python integer.
 pub fn d3dcolor(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<u32> {
+    dword(
+        name,
+        obj,
+        "a D3DCOLOR, an integer 0xAARRGGBB",
+        "a D3DCOLOR 0xAARRGGBB",
+    )
+}
+
+/// 32 bits from a Python integer: `expected` says what the argument is when it is not an
+/// integer, `what` what its 32 bits are when it is out of range.
+pub fn dword(name: &str, obj: &Bound<'_, PyAny>, expected: &str, what: &str) -> PyResult<u32> {
     if obj.is_instance_of::<PyBool>() || obj.is_instance_of::<PyFloat>() {
-        return Err(PyTypeError::new_err(format!(
-            "{name} must be a D3DCOLOR, an integer 0xAARRGGBB"
-        )));
+        return Err(PyTypeError::new_err(format!("{name} must be {expected}")));
     }
-    let v: i128 = obj.extract().map_err(|_| {
-        PyTypeError::new_err(format!("{name} must be a D3DCOLOR, an integer 0xAARRGGBB"))
-    })?;
+    let v: i128 = obj
+        .extract()
+        .map_err(|_| PyTypeError::new_err(format!("{name} must be {expected}")))?;
     u32::try_from(v).map_err(|_| {
         let sign = if v < 0 { "-" } else { "" };
         PyValueError::new_err(format!(
-            "{name} {sign}{:#x} is outside 0..=0xFFFFFFFF (a D3DCOLOR 0xAARRGGBB)",
+            "{name} {sign}{:#x} is outside 0..=0xFFFFFFFF ({what})",
             v.unsigned_abs()
         ))
     })
+}
+
+/// `repr(obj)`, cut to a line's worth, for a message saying what an argument got.
+pub fn got(obj: &Bound<'_, PyAny>) -> String {
+    let text = obj.repr().map(|r| r.to_string()).unwrap_or_default();
+    match text.char_indices().nth(60) {
+        Some((end, _)) => format!("{}...", &text[..end]),
+        None => text,
+    }
+}
+
+/// Integer argument `name` (a Python or numpy integer, not a bool) within `lo..=hi`.
+pub fn integer<T: TryFrom<i128>>(
+    name: &str,
+    obj: &Bound<'_, PyAny>,
+    lo: i128,
+    hi: i128,
+) -> PyResult<T> {
+    let v = any_integer(name, obj)?;
+    v.filter(|v| (lo..=hi).contains(v))
+        .and_then(|v| T::try_from(v).ok())
+        .ok_or_else(|| {
+            let value = v.map(|v| format!(" {v}")).unwrap_or_default();
+            PyValueError::new_err(format!("{name}{value} is outside {lo}..={hi}"))
+        })
+}
+
+/// An integer argument as it is (`None` beyond 128 bits); a TypeError naming `name` for
+/// anything else.
+pub fn any_integer(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Option<i128>> {
+    let is_bool = obj.is_instance_of::<PyBool>()
+        || obj
+            .getattr("dtype")
+            .and_then(|d| d.getattr("kind"))
+            .is_ok_and(|k| k.extract::<String>().is_ok_and(|k| k == "b"));
+    if is_bool || !obj.hasattr("__index__")? {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be an integer; got {}",
+            got(obj)
+        )));
+    }
+    Ok(obj.extract::<i128>().ok())
+}
+
+/// The target's sides `width` and `height` (integers), refused with the device's message
+/// (`pointillist.Error`) outside 1..=16384, before anything is allocated.
+pub fn target_size(width: &Bound<'_, PyAny>, height: &Bound<'_, PyAny>) -> PyResult<(u32, u32)> {
+    let (w, h) = (any_integer("width", width)?, any_integer("height", height)?);
+    let side = |v: Option<i128>| {
+        v.and_then(|v| u32::try_from(v).ok())
+            .filter(|v| (1..=MAX_TARGET_SIZE).contains(v))
+    };
+    match (side(w), side(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => {
+            let show = |v: Option<i128>, obj: &Bound<'_, PyAny>| {
+                v.map_or_else(|| got(obj), |v| v.to_string())
+            };
+            Err(crate::errors::Error::new_err(format!(
+                "render target {}x{} is outside 1..={MAX_TARGET_SIZE} per side",
+                show(w, width),
+                show(h, height)
+            )))
+        }
+    }
+}
+
+/// Argument `name` as `T`, or a TypeError naming it, saying it must be `expected` and what it
+/// got.
+pub fn arg<'py, T: FromPyObjectOwned<'py>>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+    expected: &str,
+) -> PyResult<T> {
+    obj.extract()
+        .map_err(|_| PyTypeError::new_err(format!("{name} must be {expected}; got {}", got(obj))))
 }
 
 /// `color`: one D3DCOLOR, a 1-D array of D3DCOLORs (uint32, read in place; other integer

@@ -5,16 +5,23 @@ use pointillist_core::device::{Backend, Device};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+use crate::interrupt::Interruptible;
+
 /// A backend that can move to the thread that draws while the GIL is released.
 pub type AnyBackend = Box<dyn Backend + Send>;
 
 /// A device on either backend.
 pub type AnyDevice = Device<AnyBackend>;
 
-/// The backend called `name`.
+/// The `backend` argument: a backend's name.
+pub fn name(obj: &Bound<'_, PyAny>) -> PyResult<String> {
+    crate::arrays::arg("backend", obj, r#"a string ("cpu" or "gpu")"#)
+}
+
+/// The backend called `name`, its draws [`Interruptible`].
 pub fn backend(name: &str) -> PyResult<AnyBackend> {
     match name {
-        "cpu" => Ok(Box::new(pointillist_cpu::CpuBackend::new())),
+        "cpu" => Ok(Box::new(Interruptible(pointillist_cpu::CpuBackend::new()))),
         "gpu" => gpu(),
         _ => Err(PyValueError::new_err(format!(
             "unknown backend `{name}` (expected \"cpu\" or \"gpu\")"
@@ -30,7 +37,9 @@ fn gpu() -> PyResult<AnyBackend> {
              Debian `apt-get install mesa-vulkan-drivers libvulkan1` gives a software one)"
         ))
     })?;
-    Ok(Box::new(pointillist_gpu::GpuBackend::with_context(ctx)))
+    Ok(Box::new(Interruptible(
+        pointillist_gpu::GpuBackend::with_context(ctx),
+    )))
 }
 
 #[cfg(not(feature = "gpu"))]

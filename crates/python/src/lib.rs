@@ -10,18 +10,25 @@ mod arrays;
 mod backend;
 mod device;
 mod errors;
+mod interrupt;
 mod scene;
 
 use std::sync::{Arc, Mutex};
 
-use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{Element, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pointillist_plot::tiles::Tiles;
 use pointillist_plot::{Blend, DataRange, Layout, Plot, Points};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::PyType;
 
 use arrays::{ColorArg, SizeArg, colors, column, d3dcolor, sizes};
 use errors::plot_error;
+
+/// `pointillist._image.Image`, looked up when the module is imported: a lookup during a call
+/// could run Python code, which a pending Ctrl-C would break.
+static IMAGE: PyOnceLock<Py<PyType>> = PyOnceLock::new();
 
 /// `rgba` (`height * width * 4` bytes, rows top to bottom) as a `pointillist.Image`, the
 /// `(height, width, 4)` uint8 ndarray that shows itself in Jupyter; the bytes are not copied.
@@ -31,9 +38,33 @@ pub(crate) fn image<'py>(
     width: u32,
     height: u32,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let array = PyArray1::from_vec(py, rgba).reshape([height as usize, width as usize, 4])?;
-    let class = py.import("pointillist._image")?.getattr("Image")?;
-    array.call_method1("view", (class,))
+    as_image(py, PyArray1::from_vec(py, rgba).into_any(), width, height)
+}
+
+/// [`image`] of RGBA bytes held four a word, each pixel's in memory order (`Rgba8`); the
+/// words are not copied.
+pub(crate) fn image_words<'py>(
+    py: Python<'py>,
+    words: Vec<u32>,
+    width: u32,
+    height: u32,
+) -> PyResult<Bound<'py, PyAny>> {
+    let bytes = PyArray1::from_vec(py, words).call_method1("view", (u8::get_dtype(py),))?;
+    as_image(py, bytes, width, height)
+}
+
+/// A 1-D uint8 array of `height * width * 4` bytes as an `Image`.
+fn as_image<'py>(
+    py: Python<'py>,
+    bytes: Bound<'py, PyAny>,
+    width: u32,
+    height: u32,
+) -> PyResult<Bound<'py, PyAny>> {
+    let shape = (height as usize, width as usize, 4);
+    let class = IMAGE.import(py, "pointillist._image", "Image")?;
+    bytes
+        .call_method1("reshape", (shape,))?
+        .call_method1("view", (class,))
 }
 
 /// A data range argument: `None` or two numbers.
@@ -45,21 +76,23 @@ fn data_range(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Dat
     Ok(Some(DataRange { lo, hi }))
 }
 
-/// The `Plot` of the keyword arguments every drawing function takes.
+/// The `Plot` of the keyword arguments every drawing function takes; the target's size is
+/// checked first, before anything is allocated.
 #[allow(clippy::too_many_arguments)]
 fn plot(
-    width: u32,
-    height: u32,
-    blend: &str,
+    width: &Bound<'_, PyAny>,
+    height: &Bound<'_, PyAny>,
+    blend: &Bound<'_, PyAny>,
     x_range: Option<&Bound<'_, PyAny>>,
     y_range: Option<&Bound<'_, PyAny>>,
     clear: &Bound<'_, PyAny>,
     texture: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Plot> {
+    let (width, height) = arrays::target_size(width, height)?;
     Ok(Plot {
         width,
         height,
-        blend: Blend::from_name(blend).map_err(plot_error)?,
+        blend: blend_arg(blend)?,
         clear: d3dcolor("clear", clear)?,
         x_range: data_range("x_range", x_range)?,
         y_range: data_range("y_range", y_range)?,
@@ -67,6 +100,13 @@ fn plot(
             .map(|t| arrays::texture("texture", t).map(Arc::new))
             .transpose()?,
     })
+}
+
+/// The `blend` argument: a preset's name.
+fn blend_arg(obj: &Bound<'_, PyAny>) -> PyResult<Blend> {
+    let expected = r#"a string ("add", "alpha", "max" or "replace")"#;
+    let name: String = arrays::arg("blend", obj, expected)?;
+    Blend::from_name(&name).map_err(plot_error)
 }
 
 /// The columns of a call, held (borrowed in place or converted once) for its length.
@@ -117,32 +157,33 @@ fn points<'py>(
     size: &Bound<'py, PyAny>,
     color: &Bound<'py, PyAny>,
     z: Option<&Bound<'py, PyAny>>,
-    width: u32,
-    height: u32,
-    blend: &str,
+    width: &Bound<'py, PyAny>,
+    height: &Bound<'py, PyAny>,
+    blend: &Bound<'py, PyAny>,
     x_range: Option<&Bound<'py, PyAny>>,
     y_range: Option<&Bound<'py, PyAny>>,
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
-    backend: &str,
+    backend: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let backend = backend::name(backend)?;
     let held = Held::new(x, y, z, size, color)?;
     let points = held.points();
-    let rgba = if backend == "cpu" {
-        py.detach(|| plot.render(&points)).map_err(plot_error)?
-    } else {
-        let backend = backend::backend(backend)?;
-        py.detach(|| -> Result<Vec<u8>, pointillist_plot::PlotError> {
-            plot.check(&points)?;
-            let size = (plot.width, plot.height);
-            let mut device = plot.device(backend, &points.layout(), size, None)?;
-            plot.draw(&mut device, &points)?;
-            Ok(device.read_target()?.to_rgba8())
-        })
-        .map_err(plot_error)?
-    };
-    image(py, rgba, width, height)
+    if backend == "cpu" {
+        let rgba = py.detach(|| plot.render(&points)).map_err(plot_error)?;
+        return image(py, rgba, plot.width, plot.height);
+    }
+    let backend = backend::backend(&backend)?;
+    let rgba = interrupt::detach(py, || -> Result<_, pointillist_plot::PlotError> {
+        plot.check(&points)?;
+        let size = (plot.width, plot.height);
+        let mut device = plot.device(backend, &points.layout(), size, None)?;
+        plot.draw(&mut device, &points)?;
+        Ok(device.into_target()?.into_rgba8())
+    })?
+    .map_err(plot_error)?;
+    image_words(py, rgba.into_words(), plot.width, plot.height)
 }
 
 /// The partial image of one part of a draw whose blend commutes: the points drawn onto a
@@ -156,9 +197,9 @@ fn _partial<'py>(
     y: &Bound<'py, PyAny>,
     size: &Bound<'py, PyAny>,
     color: &Bound<'py, PyAny>,
-    width: u32,
-    height: u32,
-    blend: &str,
+    width: &Bound<'py, PyAny>,
+    height: &Bound<'py, PyAny>,
+    blend: &Bound<'py, PyAny>,
     x_range: Option<&Bound<'py, PyAny>>,
     y_range: Option<&Bound<'py, PyAny>>,
     texture: Option<&Bound<'py, PyAny>>,
@@ -167,6 +208,7 @@ fn _partial<'py>(
     let pool = pool(threads)?;
     let zero = 0u32.into_pyobject(py)?.into_any();
     let plot = plot(width, height, blend, x_range, y_range, &zero, texture)?;
+    let (width, height) = (plot.width, plot.height);
     if !plot.blend.commutes() {
         return Err(PyValueError::new_err(format!(
             "blend \"{blend}\" depends on the order of the points; draw it by tiles"
@@ -228,9 +270,9 @@ fn _counts<'py>(
     y: &Bound<'py, PyAny>,
     size: &Bound<'py, PyAny>,
     color: &Bound<'py, PyAny>,
-    width: u32,
-    height: u32,
-    blend: &str,
+    width: &Bound<'py, PyAny>,
+    height: &Bound<'py, PyAny>,
+    blend: &Bound<'py, PyAny>,
     x_range: Option<&Bound<'py, PyAny>>,
     y_range: Option<&Bound<'py, PyAny>>,
     clear: &Bound<'py, PyAny>,
@@ -240,6 +282,7 @@ fn _counts<'py>(
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
     let pool = pool(threads)?;
     let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let (width, height) = (plot.width, plot.height);
     let held = Held::new(x, y, None, size, color)?;
     let points = held.points();
     if let Some(out) = out {
@@ -308,15 +351,16 @@ fn _from_counts<'py>(
     y: &Bound<'py, PyAny>,
     size: &Bound<'py, PyAny>,
     color: &Bound<'py, PyAny>,
-    width: u32,
-    height: u32,
-    blend: &str,
+    width: &Bound<'py, PyAny>,
+    height: &Bound<'py, PyAny>,
+    blend: &Bound<'py, PyAny>,
     x_range: Option<&Bound<'py, PyAny>>,
     y_range: Option<&Bound<'py, PyAny>>,
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let (width, height) = (plot.width, plot.height);
     let held = Held::new(x, y, None, size, color)?;
     let counts = count_array("counts", counts)?;
     let counts = counts.try_readonly()?;
@@ -350,8 +394,12 @@ fn rgba_bytes<'py>(
 /// Combines partial image `src` into `dst` (in place) with the exact operator of `blend`
 /// (`Blend::combine`: 8-bit saturating addition for "add", maximum for "max").
 #[pyfunction]
-fn _combine(dst: &Bound<'_, PyAny>, src: &Bound<'_, PyAny>, blend: &str) -> PyResult<()> {
-    let blend = Blend::from_name(blend).map_err(plot_error)?;
+fn _combine(
+    dst: &Bound<'_, PyAny>,
+    src: &Bound<'_, PyAny>,
+    blend: &Bound<'_, PyAny>,
+) -> PyResult<()> {
+    let blend = blend_arg(blend)?;
     let dst = rgba_bytes("dst", dst)?;
     let src = rgba_bytes("src", src)?;
     let src = src.try_readonly()?;
@@ -364,9 +412,13 @@ fn _combine(dst: &Bound<'_, PyAny>, src: &Bound<'_, PyAny>, blend: &str) -> PyRe
 /// Combines the clear colour into the combined partial images `rgba` (in place)
 /// (`Plot::finish`).
 #[pyfunction]
-fn _finish(rgba: &Bound<'_, PyAny>, blend: &str, clear: &Bound<'_, PyAny>) -> PyResult<()> {
+fn _finish(
+    rgba: &Bound<'_, PyAny>,
+    blend: &Bound<'_, PyAny>,
+    clear: &Bound<'_, PyAny>,
+) -> PyResult<()> {
     let plot = Plot {
-        blend: Blend::from_name(blend).map_err(plot_error)?,
+        blend: blend_arg(blend)?,
         clear: d3dcolor("clear", clear)?,
         ..Plot::new(1, 1)
     };
@@ -379,11 +431,15 @@ fn _finish(rgba: &Bound<'_, PyAny>, blend: &str, clear: &Bound<'_, PyAny>) -> Py
 /// The tiles of a `width` x `height` target: a list of `(x0, y0, x1, y1)`, row by row.
 #[pyfunction]
 fn _tiles(
-    width: u32,
-    height: u32,
-    tile_width: u32,
-    tile_height: u32,
+    width: &Bound<'_, PyAny>,
+    height: &Bound<'_, PyAny>,
+    tile_width: &Bound<'_, PyAny>,
+    tile_height: &Bound<'_, PyAny>,
 ) -> PyResult<Vec<(i32, i32, i32, i32)>> {
+    let (width, height) = arrays::target_size(width, height)?;
+    let side = i128::from(u32::MAX);
+    let tile_width = arrays::integer("tile_size", tile_width, 1, side)?;
+    let tile_height = arrays::integer("tile_size", tile_height, 1, side)?;
     let tiles = Tiles::new(width, height, tile_width, tile_height).map_err(plot_error)?;
     Ok((0..tiles.len())
         .map(|i| {
@@ -409,9 +465,9 @@ fn _bin<'py>(
     size: &Bound<'py, PyAny>,
     color: &Bound<'py, PyAny>,
     z: Option<&Bound<'py, PyAny>>,
-    width: u32,
-    height: u32,
-    blend: &str,
+    width: &Bound<'py, PyAny>,
+    height: &Bound<'py, PyAny>,
+    blend: &Bound<'py, PyAny>,
     x_range: Option<&Bound<'py, PyAny>>,
     y_range: Option<&Bound<'py, PyAny>>,
     first_index: u64,
@@ -420,6 +476,7 @@ fn _bin<'py>(
 ) -> PyResult<Vec<TileArrays<'py>>> {
     let zero = 0u32.into_pyobject(py)?.into_any();
     let plot = plot(width, height, blend, x_range, y_range, &zero, None)?;
+    let (width, height) = (plot.width, plot.height);
     let tiles = Tiles::new(width, height, tile_width, tile_height).map_err(plot_error)?;
     let held = Held::new(x, y, z, size, color)?;
     let points = held.points();
@@ -448,9 +505,9 @@ fn _render_tile<'py>(
     rect: (i32, i32, i32, i32),
     size: Option<f32>,
     depth: bool,
-    width: u32,
-    height: u32,
-    blend: &str,
+    width: &Bound<'py, PyAny>,
+    height: &Bound<'py, PyAny>,
+    blend: &Bound<'py, PyAny>,
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -499,7 +556,7 @@ fn _save_png(py: Python<'_>, path: std::path::PathBuf, rgba: &Bound<'_, PyAny>) 
     let a = a.try_readonly()?;
     let bytes = contiguous(a.as_slice())?;
     py.detach(|| pointillist_image::write_png_atomic(&path, w, h, bytes))
-        .map_err(|e| errors::Error::new_err(format!("cannot write {}: {e}", path.display())))
+        .map_err(|e| errors::Error::new_err(e.to_string()))
 }
 
 /// The vector level the CPU backend's wide spans run on ("avx512", "avx2", "sse2" or "portable").
@@ -512,6 +569,10 @@ fn lanes() -> &'static str {
 #[pyo3(name = "_native")]
 fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // numpy's C API and the Image class, loaded now: loaded by the first call that makes an
+    // array, they run Python code that a Ctrl-C pending from the draw would break (a panic).
+    PyArray1::<u8>::zeros(py, 0, false);
+    IMAGE.import(py, "pointillist._image", "Image")?;
     m.add("Error", py.get_type::<errors::Error>())?;
     m.add("SceneError", py.get_type::<errors::SceneError>())?;
     m.add_class::<device::PyDevice>()?;

@@ -8,6 +8,7 @@ use pointillist_core::device::Device;
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
+use crate::arrays::{arg, integer};
 use crate::errors::SceneError;
 
 /// Renders a scene file (docs/spec/SCENE.md) and returns its target as an ``(height, width,
@@ -16,48 +17,55 @@ use crate::errors::SceneError;
 /// particles simulated to ``warmup + frame / fps`` seconds, the camera at ``frame / fps``.
 /// Errors raise ``pointillist.SceneError`` with the CLI's message (file, line, column, key).
 #[pyfunction]
-#[pyo3(signature = (path, frame=None, *, backend="cpu"))]
+#[pyo3(signature = (path, frame=None, *, backend=None), text_signature = "(path, frame=None, *, backend='cpu')")]
 pub fn render_scene<'py>(
     py: Python<'py>,
-    path: PathBuf,
-    frame: Option<u32>,
-    backend: &str,
+    path: &Bound<'py, PyAny>,
+    frame: Option<&Bound<'py, PyAny>>,
+    backend: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let backend = crate::backend::backend(backend)?;
-    let target = py
-        .detach(|| -> Result<_, String> {
-            let scene = pointillist_scene::load(&path).map_err(|e| e.to_string())?;
-            let name = path.display();
-            let mut device = Device::new(backend, scene.device_desc())
-                .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
-            if scene.is_animated() || frame.is_some() {
-                let frame = frame.unwrap_or(0);
-                let frames = scene.animation.frames;
-                if frame >= frames {
-                    return Err(format!(
-                        "{name}: frame {frame} is outside 0..={} ([animation] frames = {frames})",
-                        frames - 1
-                    ));
-                }
-                let mut system = scene.particle_system().map_err(|e| e.to_string())?;
-                let mut buffers = pointillist_particles::DrawBuffers::new();
-                scene
-                    .render_frame(&mut device, &mut system, &mut buffers, frame)
-                    .map_err(|e| e.to_string())?;
-            } else {
-                scene.replay(&mut device).map_err(|e| e.to_string())?;
+    let path: PathBuf = arg("path", path, "a path (str or os.PathLike)")?;
+    let frame: Option<u32> = frame
+        .map(|f| integer("frame", f, 0, u32::MAX.into()))
+        .transpose()?;
+    let backend =
+        crate::backend::backend(&backend.map_or(Ok("cpu".into()), crate::backend::name)?)?;
+    let (rgba, width, height) = crate::interrupt::detach(py, || -> Result<_, String> {
+        let scene = pointillist_scene::load(&path).map_err(|e| e.to_string())?;
+        let name = path.display();
+        let mut device = Device::new(backend, scene.device_desc())
+            .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
+        if scene.is_animated() || frame.is_some() {
+            let frame = frame.unwrap_or(0);
+            let frames = scene.animation.frames;
+            if frame >= frames {
+                return Err(format!(
+                    "{name}: frame {frame} is outside 0..={} ([animation] frames = {frames})",
+                    frames - 1
+                ));
             }
-            device
-                .read_target()
-                .map_err(|e| format!("{name}: cannot read the render target: {e}"))
-        })
-        .map_err(SceneError::new_err)?;
-    crate::image(py, target.to_rgba8(), target.width, target.height)
+            let mut system = scene.particle_system().map_err(|e| e.to_string())?;
+            let mut buffers = pointillist_particles::DrawBuffers::new();
+            scene
+                .render_frame(&mut device, &mut system, &mut buffers, frame)
+                .map_err(|e| e.to_string())?;
+        } else {
+            scene.replay(&mut device).map_err(|e| e.to_string())?;
+        }
+        // Converted where it lies, as `pointillist render` does: no copy of colour and depth.
+        let target = device
+            .into_target()
+            .map_err(|e| format!("{name}: cannot read the render target: {e}"))?;
+        let (width, height) = (target.width, target.height);
+        Ok((target.into_rgba8(), width, height))
+    })?
+    .map_err(SceneError::new_err)?;
+    crate::image_words(py, rgba.into_words(), width, height)
 }
 
 /// Python's side of an animation: warnings kept for `warnings.warn`, and Ctrl-C (or any
-/// signal handler's exception) checked between frames, which stops the animation with
-/// nothing written.
+/// signal handler's exception) checked between frames (and between the pieces of a draw,
+/// [`crate::interrupt`]), which stops the animation with nothing written.
 #[derive(Default)]
 struct Session {
     warnings: Vec<String>,
@@ -86,20 +94,19 @@ impl Observer for Session {
 /// render. Errors raise ``pointillist.SceneError`` with the CLI's one-line message, and leave
 /// no file (nor part of one) behind; warnings go to ``warnings.warn``.
 #[pyfunction]
-#[pyo3(signature = (path, out, *, frames=None, backend="cpu"))]
+#[pyo3(signature = (path, out, *, frames=None, backend=None), text_signature = "(path, out, *, frames=None, backend='cpu')")]
 pub fn animate(
     py: Python<'_>,
     path: PathBuf,
     out: PathBuf,
-    frames: Option<u32>,
-    backend: &str,
+    frames: Option<&Bound<'_, PyAny>>,
+    backend: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
-    if frames == Some(0) {
-        return Err(pyo3::exceptions::PyValueError::new_err(
-            "frames must be at least 1",
-        ));
-    }
-    let backend = crate::backend::backend(backend)?;
+    let frames: Option<u32> = frames
+        .map(|f| integer("frames", f, 1, u32::MAX.into()))
+        .transpose()?;
+    let backend =
+        crate::backend::backend(&backend.map_or(Ok("cpu".into()), crate::backend::name)?)?;
     let request = Request {
         scene: path,
         output: out,
@@ -109,8 +116,9 @@ pub fn animate(
         behaviours: Vec::new(),
     };
     let mut session = Session::default();
-    let result =
-        py.detach(|| pointillist_animation::animate(&request, || Ok(backend), &mut session));
+    let result = crate::interrupt::detach(py, || {
+        pointillist_animation::animate(&request, || Ok(backend), &mut session)
+    });
     for text in &session.warnings {
         PyErr::warn(
             py,
@@ -122,5 +130,5 @@ pub fn animate(
     if let Some(interrupt) = session.interrupt {
         return Err(interrupt);
     }
-    result.map(|_| ()).map_err(SceneError::new_err)
+    result?.map(|_| ()).map_err(SceneError::new_err)
 }

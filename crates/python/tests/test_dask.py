@@ -109,6 +109,11 @@ def test_errors_name_the_argument(client):
         pointillist.dask.points(df, width=8, height=8, blend="over", client=client)
     with pytest.raises(ValueError, match="x_range"):
         pointillist.dask.points(df, width=8, height=8, x_range=(1, 0), client=client)
+    # Sizes no target has: the device's one line, before any image is allocated (2**30 x 16
+    # aborted the interpreter; -1 was an OverflowError naming nothing).
+    for w, h in [(2**30, 16), (-1, 8)]:
+        with pytest.raises(pointillist.Error, match=rf"^render target {w}x{h} is outside"):
+            pointillist.dask.points(df, width=w, height=h, client=client)
     bad = pdf.copy()
     bad.loc[60, "x"] = np.nan
     bdf = dd.from_pandas(bad, npartitions=2, sort=False)

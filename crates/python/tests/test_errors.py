@@ -85,5 +85,31 @@ def test_values_out_of_range():
     raises(pointillist.Error, "render target 0x8 is outside 1..=16384 per side", width=0)
     raises(pointillist.Error, "render target 8x20000 is outside 1..=16384 per side",
            height=20000)
-    with pytest.raises(OverflowError):
-        pointillist.points(X, X, width=-1, height=8)
+
+
+def test_sizes_and_names_of_any_value_are_one_clear_line():
+    # Sizes no target has: the device's refusal, before the image is allocated (2**32 - 1
+    # squared overflowed, a panic; 2**30 x 16 aborted the interpreter).
+    for w, h in [(2**32 - 1, 2**32 - 1), (2**30, 16), (2**32, 8), (-1, 8), (8, -(2**70))]:
+        raises(pointillist.Error, f"render target {w}x{h} is outside 1..=16384 per side",
+               width=w, height=h)
+    raises(TypeError, "width must be an integer; got 1.5", width=1.5)
+    raises(TypeError, "height must be an integer; got True", height=True)
+    raises(TypeError, "height must be an integer; got '8'", height="8")
+    assert pointillist.points(X, X, width=np.int64(3), height=np.uint16(2)).shape == (2, 3, 4)
+    raises(TypeError, 'blend must be a string ("add", "alpha", "max" or "replace"); got None',
+           blend=None)
+    raises(TypeError, 'backend must be a string ("cpu" or "gpu"); got 0', backend=0)
+    # Two finite numbers whose span overflows: the real reason, the numbers in short.
+    raises(ValueError, "x_range (-1e308, 1e308) is too wide: hi - lo overflows a float64",
+           x_range=(-1e308, 1e308))
+    raises(ValueError, "y_range (0, 5e-324) is too narrow", y_range=(0, 5e-324))
+
+
+def test_save_errors_name_the_path_once(tmp_path):
+    img = pointillist.points(X, X, width=4, height=4)
+    missing = tmp_path / "none" / "a.png"
+    with pytest.raises(pointillist.Error) as info:
+        img.save(missing)
+    assert str(info.value) == f"cannot write {missing}: folder {missing.parent} does not exist"
+    assert not missing.parent.exists()

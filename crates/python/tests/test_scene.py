@@ -46,6 +46,15 @@ def test_scene_errors_carry_the_cli_message(cli, tmp_path):
     assert "cannot read scene file" in str(info.value)
     with pytest.raises(pointillist.SceneError, match="frame 99 is outside"):
         pointillist.render_scene(SCENES / "snow.toml", 99)
+    with pytest.raises(ValueError) as info:
+        pointillist.render_scene(SCENES / "snow.toml", -1)
+    assert str(info.value) == "frame -1 is outside 0..=4294967295"
+    with pytest.raises(TypeError) as info:
+        pointillist.render_scene(None)
+    assert str(info.value) == "path must be a path (str or os.PathLike); got None"
+    with pytest.raises(TypeError) as info:
+        pointillist.render_scene(SCENES / "snow.toml", backend=1)
+    assert str(info.value) == 'backend must be a string ("cpu" or "gpu"); got 1'
     assert issubclass(pointillist.SceneError, pointillist.Error)
 
 
@@ -86,8 +95,13 @@ def test_animate_errors_carry_the_cli_message_and_write_nothing(cli, tmp_path, c
         pointillist.animate(scene, out, frames=3)
     assert str(info.value) == line[len("error: "):]
     assert sorted(out.parent.iterdir()) == before
-    with pytest.raises(ValueError, match="frames must be at least 1"):
-        pointillist.animate(SCENES / "snow.toml", tmp_path / "out" / "a.png", frames=0)
+    for frames in (0, -1, 2**32):
+        with pytest.raises(ValueError) as info:
+            pointillist.animate(SCENES / "snow.toml", tmp_path / "out" / "a.png", frames=frames)
+        assert str(info.value) == f"frames {frames} is outside 1..=4294967295"
+    with pytest.raises(TypeError) as info:
+        pointillist.animate(SCENES / "snow.toml", tmp_path / "out" / "a.png", frames=1.5)
+    assert str(info.value) == "frames must be an integer; got 1.5"
 
 
 def test_animate_stops_on_ctrl_c_and_writes_nothing(tmp_path):

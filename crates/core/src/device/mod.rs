@@ -266,6 +266,13 @@ pub struct Rgba8 {
     words: Vec<u32>,
 }
 
+impl Rgba8 {
+    /// The bytes as they lie, four a word: a buffer handed on without a copy.
+    pub fn into_words(self) -> Vec<u32> {
+        self.words
+    }
+}
+
 impl std::ops::Deref for Rgba8 {
     type Target = [u8];
     fn deref(&self) -> &[u8] {

@@ -1,0 +1,192 @@
+"""Signals, threads and memory: Ctrl-C ends long native calls within about a second (even the
+first call of a process), two threads on one Device wait for each other instead of deadlocking,
+and reading a target back does not copy it. Each case runs in its own Python process, so that a
+hang or an abort fails the case instead of the suite."""
+
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+
+# A draw of big blended points that takes far more than a second (minutes, uninterrupted):
+# POINTS squares of SIDE pixels over the whole target.
+SIDE, POINTS = 1024, 200_000
+
+
+def slow_vertices():
+    v = np.zeros(POINTS, [("xyzrhw", "<f4", 4), ("diffuse", "<u4")])
+    v["xyzrhw"] = (SIDE / 2, SIDE / 2, 0.5, 1.0)
+    v["diffuse"] = 0x08FFFFFF
+    return v
+
+
+SLOW_STATES = {
+    "POINTSIZE": float(SIDE),
+    "POINTSIZE_MAX": 8192.0,
+    "ALPHABLENDENABLE": True,
+    "SRCBLEND": "SRCALPHA",
+    "DESTBLEND": "INVSRCALPHA",
+}
+
+
+def slow_scene(tmp_path):
+    slow_vertices().tofile(tmp_path / "slow.bin")
+    states = "\n".join(
+        f"{k} = {str(v).lower() if isinstance(v, bool) else repr(v)}"
+        for k, v in SLOW_STATES.items()
+    )
+    scene = tmp_path / "slow.toml"
+    scene.write_text(
+        f"format = 1\n[target]\nwidth = {SIDE}\nheight = {SIDE}\n[states]\n{states}\n"
+        '[[draw]]\nfvf = "XYZRHW | DIFFUSE"\nfile = "slow.bin"\n'
+    )
+    return scene
+
+
+def run_python(code, timeout=60):
+    """Runs `code` in a fresh interpreter; returns (exit status, stdout, stderr). A hang is
+    killed after `timeout` seconds and fails the test."""
+    try:
+        p = subprocess.run(
+            [sys.executable, "-c", textwrap.dedent(code)],
+            capture_output=True, text=True, timeout=timeout,
+        )
+    except subprocess.TimeoutExpired:
+        raise AssertionError(f"still running after {timeout} s") from None
+    return p.returncode, p.stdout, p.stderr
+
+
+# Sends SIGINT to the process itself 0.5 s after `start()`, as Ctrl-C in a terminal does, and
+# reports how long after it the call ended.
+CTRL_C = """
+import os, signal, sys, threading, time
+signal.signal(signal.SIGINT, signal.default_int_handler)
+def start():
+    global sent
+    def send():
+        global sent
+        sent = time.monotonic()
+        os.kill(os.getpid(), signal.SIGINT)
+    threading.Timer(0.5, send).start()
+def interrupted(call):
+    start()
+    try:
+        call()
+    except KeyboardInterrupt:
+        print(f"interrupted after {time.monotonic() - sent:.2f} s")
+    else:
+        print("not interrupted")
+"""
+
+
+def assert_interrupted(rc, out, err):
+    assert rc == 0, err
+    assert "Panic" not in err and "Traceback" not in err, err
+    words = out.split()
+    assert words[:2] == ["interrupted", "after"], out
+    # The promise is about a second; the bound leaves room for a loaded machine.
+    assert float(words[2]) < 3.0, out
+
+
+def test_ctrl_c_ends_the_first_render_scene_of_a_process(tmp_path):
+    # The first call of a process loads numpy's C API: a Ctrl-C pending then was a
+    # PanicException after the whole render.
+    scene = slow_scene(tmp_path)
+    code = CTRL_C + f"""
+import pointillist
+interrupted(lambda: pointillist.render_scene({str(scene)!r}))
+"""
+    assert_interrupted(*run_python(code))
+
+
+def test_ctrl_c_ends_a_long_draw_points(tmp_path):
+    slow_vertices().tofile(tmp_path / "slow.bin")
+    code = CTRL_C + f"""
+import numpy as np, pointillist
+dev = pointillist.Device({SIDE}, {SIDE})
+for k, v in {SLOW_STATES!r}.items():
+    dev.set_render_state(k, v)
+v = np.fromfile({str(tmp_path / "slow.bin")!r}, np.uint8)
+interrupted(lambda: dev.draw_points("XYZRHW | DIFFUSE", v))
+# The device is usable after: the points drawn before Ctrl-C stay drawn.
+img = dev.read_target()
+assert img[{SIDE // 2}, {SIDE // 2}, 0] > 0, img[{SIDE // 2}, {SIDE // 2}]
+"""
+    assert_interrupted(*run_python(code))
+
+
+def test_two_threads_on_one_device_wait_for_each_other():
+    # One thread draws (the GIL released, the device held); the other sets a state meanwhile:
+    # it waits for the draw, with the GIL released, instead of both waiting for ever.
+    code = f"""
+import threading, time
+import numpy as np, pointillist
+dev = pointillist.Device(256, 256)
+for k, v in {SLOW_STATES!r}.items():
+    dev.set_render_state(k, v)
+dev.set_render_state("POINTSIZE", 256.0)
+def points(n):
+    v = np.zeros(n, [("xyzrhw", "<f4", 4), ("diffuse", "<u4")])
+    v["xyzrhw"] = (128, 128, 0.5, 1)
+    v["diffuse"] = 0x08FFFFFF
+    return v
+# Enough points for a draw of about 1.5 s on this machine and build.
+start = time.monotonic()
+dev.draw_points("XYZRHW | DIFFUSE", points(20))
+v = points(max(20, int(1.5 * 20 / (time.monotonic() - start))))
+drawing = threading.Event()
+def draw():
+    drawing.set()
+    dev.draw_points("XYZRHW | DIFFUSE", v)
+t = threading.Thread(target=draw)
+t.start()
+drawing.wait()
+time.sleep(0.1)
+overlapped = t.is_alive()
+dev.set_render_state("POINTSIZE", 2.0)
+t.join()
+assert dev.render_state("POINTSIZE") == 0x40000000
+print("overlapped" if overlapped else "drawn before")
+"""
+    rc, out, err = run_python(code)
+    assert rc == 0, err
+    assert out.strip() == "overlapped", out
+
+
+def test_targets_are_read_back_without_a_copy(tmp_path):
+    # The peak resident memory while a 4096x4096 target (128 MiB of colour and depth) is read
+    # back, each in a process of its own: render_scene converts it where it lies, as
+    # `pointillist render` does, and Device.read_target adds only the 64 MiB of RGBA it
+    # returns (a copy of colour and depth first added 192 MiB more to each, and took a
+    # 16384x16384 scene to 4.2 GB).
+    scene, small = tmp_path / "big.toml", tmp_path / "small.toml"
+    for path, side in [(scene, 4096), (small, 8)]:
+        path.write_text(
+            f"format = 1\n[target]\nwidth = {side}\nheight = {side}\nclear = 0xFF336699\n"
+        )
+    mib = 1 << 20
+    measure = f"""
+import resource
+import pointillist
+def rss():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * resource.getpagesize()
+# The same calls on a small target first: the code they run is in memory before the measure.
+pointillist.render_scene({str(small)!r})
+pointillist.Device(8, 8).read_target()
+{{setup}}
+base = rss()
+img = {{call}}
+assert img[4095, 4095].tolist() == [0x33, 0x66, 0x99, 0xFF]
+print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 - base)
+"""
+    cases = [
+        ("", f"pointillist.render_scene({str(scene)!r})", 144 * mib),
+        ("dev = pointillist.Device(4096, 4096, clear=0xFF336699)", "dev.read_target()",
+         80 * mib),
+    ]
+    for setup, call, most in cases:
+        rc, out, err = run_python(measure.format(setup=setup, call=call))
+        assert rc == 0, err
+        assert int(out) < most, (call, int(out) / mib)
