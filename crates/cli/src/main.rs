@@ -22,6 +22,7 @@ mod report;
 mod threads;
 #[cfg(feature = "viewer")]
 mod view;
+mod work;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -71,7 +72,11 @@ reported once each as a warning on standard error. Untransformed points are lit 
 points show only the ambient and emissive light (set LIGHTING = false for vertex colours).
 
 A scene with particle emitters or an [animation] renders one frame: frame 0, or --frame N
-(the particles simulated to warmup + N / fps seconds, the camera at N / fps).";
+(the particles simulated to warmup + N / fps seconds, the camera at N / fps).
+
+A draw whose points would write more than --max-pixels pixels (default 1e11, far beyond an
+interactive render: hours on the CPU) is refused before it is drawn; --max-pixels inf lifts
+the limit.";
 
 /// Examples shown at the end of `pointillist render --help`.
 const RENDER_EXAMPLES: &str = "\
@@ -252,7 +257,8 @@ OUT is written under a temporary name beside it and put in place when every fram
 sequence's frames all together): an error, Ctrl-C, SIGTERM or SIGHUP (exit status 130) leaves
 no partial file and existing files untouched. OUT is never the scene or a file it reads, nor
 anything but a regular file (a symbolic link is followed); an existing OUT keeps its
-permissions. A progress bar with an ETA is drawn on standard error when it is a terminal.";
+permissions. A progress bar with an ETA is drawn on standard error when it is a terminal.
+A draw that would write more than --max-pixels pixels is refused as `render` refuses it.";
 
 /// Examples shown at the end of `pointillist animate --help`.
 const ANIMATE_EXAMPLES: &str = "\
@@ -318,6 +324,9 @@ pub struct AnimateArgs {
     /// How hard PNG and APNG output is compressed: the same pixels, smaller files, more time.
     #[arg(long, value_enum, ignore_case = true, default_value_t = PngCompression::Fast)]
     pub compression: PngCompression,
+    /// Refuse a draw that would write more than N pixels (`inf`: no limit).
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// Arguments of `pointillist view`.
@@ -383,6 +392,9 @@ pub struct RenderArgs {
     /// How hard the PNG is compressed: the same pixels, smaller files, more time.
     #[arg(long, value_enum, ignore_case = true, default_value_t = PngCompression::Fast)]
     pub compression: PngCompression,
+    /// Refuse a draw that would write more than N pixels (`inf`: no limit).
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// `--compression`: pointillist_image::png::Compression (docs/PERFORMANCE.md).

@@ -15,7 +15,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
     let dest = check_output(&args.output, &scene.inputs)?;
     let scene_name = args.scene.display();
-    let mut device = Device::new(backend::create(args.backend)?, scene.device_desc())
+    let backend = crate::work::Limited::new(backend::create(args.backend)?, args.max_pixels);
+    let mut device = Device::new(backend, scene.device_desc())
         .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
     let mut particles = None;
     if scene.is_animated() || args.frame.is_some() {
