@@ -398,7 +398,10 @@ mod tests {
             ("f_%d.apng", "end the name in .png"),
             ("f_%d", "end the name in .png"),
             ("f_%04d.png.bak", "end the name in .png"),
-            ("g_%d_%d.png", "`%d` and `%d`: a PNG sequence's name holds one frame counter"),
+            (
+                "g_%d_%d.png",
+                "`%d` and `%d`: a PNG sequence's name holds one frame counter",
+            ),
             ("g_%04d_%d.png", "`%04d` and `%d`"),
             ("f_%5d.png", "`%5d` is not a frame counter"),
             ("f_%x.png", "`%x` is not a frame counter"),

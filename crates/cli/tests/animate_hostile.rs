@@ -47,7 +47,10 @@ fn a_sequence_name_that_would_lie_is_refused_in_one_line() {
         ("f_%d.gif", "end the name in .png"),
         ("f_%d.apng", "end the name in .png"),
         ("f_%d", "end the name in .png"),
-        ("g_%d_%d.png", "`%d` and `%d`: a PNG sequence's name holds one frame counter"),
+        (
+            "g_%d_%d.png",
+            "`%d` and `%d`: a PNG sequence's name holds one frame counter",
+        ),
         ("f_%5d.png", "`%5d` is not a frame counter"),
         ("f_%x.png", "`%x` is not a frame counter"),
         ("f_%s.png", "`%s` is not a frame counter"),
@@ -117,13 +120,22 @@ fn a_long_sequence_is_put_in_place_in_linear_time_and_a_signal_then_ends_it_at_o
     let frames = || {
         std::fs::read_dir(dir.path())
             .unwrap()
-            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("f_"))
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .starts_with("f_")
+            })
             .count()
     };
     // The first frame in place: the renames have begun.
     let start = Instant::now();
     while frames() == 0 && child.try_wait().unwrap().is_none() {
-        assert!(start.elapsed() < Duration::from_secs(120), "no frame appeared");
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no frame appeared"
+        );
         std::thread::sleep(Duration::from_millis(5));
     }
     let sent = Instant::now();
@@ -233,6 +245,9 @@ fn a_draw_beyond_the_work_limit_is_refused_before_it_is_drawn() {
         let flag = format!("--max-pixels={bad}");
         let o = pointillist(&["render", path_arg(&small), "-o", path_arg(&out), &flag]);
         let err = error_line(&o);
-        assert!(err.contains("is not a number of pixels of at least 1"), "{bad}: {err}");
+        assert!(
+            err.contains("is not a number of pixels of at least 1"),
+            "{bad}: {err}"
+        );
     }
 }

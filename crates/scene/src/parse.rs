@@ -25,8 +25,8 @@ use crate::reader::{
     integer_in, string, table, u32_value,
 };
 use crate::{
-    Command, MAX_EMITTERS, MAX_TARGET_SIZE, MEMORY_BUDGET, PROCESS_BYTES, Scene, SceneError,
-    Step, TARGET_BYTES_PER_PIXEL, TargetDesc,
+    Command, MAX_EMITTERS, MAX_TARGET_SIZE, MEMORY_BUDGET, PROCESS_BYTES, Scene, SceneError, Step,
+    TARGET_BYTES_PER_PIXEL, TargetDesc,
 };
 
 /// The scene format this version reads.
