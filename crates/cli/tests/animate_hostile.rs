@@ -205,7 +205,7 @@ fn a_draw_beyond_the_work_limit_is_refused_before_it_is_drawn() {
     assert_eq!(
         err,
         format!(
-            "error: {}:8:1: draw[0]: this draw of 200000 points would write 2.1e11 pixels, above \
+            "error: {}:7:1: draw[0]: this draw of 200000 points would write 2.1e11 pixels, above \
              the limit of 1e11 a draw (hours of drawing); --max-pixels N raises it\n",
             scene.display()
         )
