@@ -44,10 +44,11 @@ pub enum Format {
 /// The widest frame counter: a u32 frame number has at most 10 digits.
 const MAX_COUNTER_WIDTH: usize = 10;
 
-/// The format OUT's name implies.
+/// The format OUT's name implies: a name with a `%` is a PNG sequence's pattern (checked by
+/// [`animate`]: one `%d` or `%0Nd` counter and a `.png` extension).
 pub fn infer_format(out: &Path) -> Option<Format> {
     let name = out.file_name()?.to_string_lossy().to_ascii_lowercase();
-    if counter(&name).is_some() {
+    if name.contains('%') {
         return Some(Format::PngSeq);
     }
     match Path::new(&name).extension()?.to_str()? {
@@ -58,54 +59,98 @@ pub fn infer_format(out: &Path) -> Option<Format> {
     }
 }
 
-/// The `%d` / `%0Nd` counter in a file name: its byte range and zero-padded width (`None`
-/// when the width is not a number).
-fn counter(name: &str) -> Option<(std::ops::Range<usize>, Option<usize>)> {
-    let start = name.find('%')?;
-    let rest = &name[start + 1..];
-    let digits = rest.chars().take_while(char::is_ascii_digit).count();
-    if rest[digits..].starts_with('d') {
-        let width = if digits == 0 {
-            Some(0)
-        } else {
-            rest[..digits].parse().ok()
-        };
-        Some((start..start + 1 + digits + 1, width))
-    } else {
-        None
-    }
+/// A sequence's frame counter: its byte range in the file name and its zero-padded width.
+#[derive(Clone, Debug, PartialEq)]
+struct Counter {
+    range: std::ops::Range<usize>,
+    width: usize,
 }
 
-/// The file name of a sequence pattern, with its counter checked (a width of at most
-/// [`MAX_COUNTER_WIDTH`]).
+/// The one frame counter of a sequence's file name, `%d` or `%0Nd` with N at most
+/// [`MAX_COUNTER_WIDTH`], and a `.png` extension; `None` when the name has no `%`. Any other
+/// printf form (`%5d`, which printf pads with spaces, `%x`, `%s`, `%+d`, `%%`), a second
+/// counter or another extension is an error naming it.
+fn counter(name: &str) -> Result<Option<Counter>, String> {
+    let mut found: Option<Counter> = None;
+    let mut from = 0;
+    while let Some(at) = name[from..].find('%').map(|i| from + i) {
+        // printf's flags, width and precision, then its conversion.
+        let rest = &name[at + 1..];
+        let spec = rest
+            .bytes()
+            .take_while(|b| b"-+ #.'".contains(b) || b.is_ascii_digit())
+            .count();
+        let conversion = rest[spec..].chars().next();
+        let end = at + 1 + spec + conversion.map_or(0, char::len_utf8);
+        let form = &name[at..end];
+        let digits = &rest[..spec];
+        let zero_padded = digits.is_empty()
+            || (digits.starts_with('0') && digits.bytes().all(|b| b.is_ascii_digit()));
+        if conversion != Some('d') || !zero_padded {
+            return Err(format!(
+                "`{form}` is not a frame counter: a PNG sequence's name holds one %d or %0Nd \
+                 (zero-padded to N digits), like frames/snow_%04d.png"
+            ));
+        }
+        if let Some(first) = &found {
+            return Err(format!(
+                "`{}` and `{form}`: a PNG sequence's name holds one frame counter",
+                &name[first.range.clone()]
+            ));
+        }
+        let width = match digits.parse::<usize>() {
+            Ok(w) if w <= MAX_COUNTER_WIDTH => w,
+            _ if digits.is_empty() => 0,
+            _ => {
+                return Err(format!(
+                    "the frame counter `{form}` is wider than a frame number: at most \
+                     {MAX_COUNTER_WIDTH} digits (%0{MAX_COUNTER_WIDTH}d)"
+                ));
+            }
+        };
+        found = Some(Counter {
+            range: at..end,
+            width,
+        });
+        from = end;
+    }
+    let png = Path::new(name)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if found.is_some() && !png {
+        return Err(
+            "a PNG sequence's frames are PNG files: end the name in .png, like \
+             frames/snow_%04d.png"
+                .into(),
+        );
+    }
+    Ok(found)
+}
+
+/// The file name of a sequence pattern, with its counter checked ([`counter`]).
 fn sequence_name(pattern: &Path) -> Result<String, String> {
     let name = pattern
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     match counter(&name) {
-        None => Err(format!(
+        Ok(Some(_)) => Ok(name),
+        Ok(None) => Err(format!(
             "{}: a PNG sequence needs a frame counter in the file name, like frames/snow_%04d.png",
             pattern.display()
         )),
-        Some((range, width)) if width.is_none_or(|w| w > MAX_COUNTER_WIDTH) => Err(format!(
-            "{}: the frame counter `{}` is wider than a frame number: at most \
-             {MAX_COUNTER_WIDTH} digits (%0{MAX_COUNTER_WIDTH}d)",
-            pattern.display(),
-            &name[range]
-        )),
-        Some(_) => Ok(name),
+        Err(e) => Err(format!("{}: {e}", pattern.display())),
     }
 }
 
-/// The path of frame `k` of a sequence pattern (the pattern itself when its counter is not
-/// one [`animate`] accepts).
+/// The path of frame `k` of a sequence pattern (the pattern itself when its name is not one
+/// [`animate`] accepts).
 pub fn sequence_path(pattern: &Path, k: u32) -> PathBuf {
     let name = pattern
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let Some((range, Some(width))) = counter(&name) else {
+    let Ok(Some(Counter { range, width })) = counter(&name) else {
         return pattern.to_path_buf();
     };
     let file = format!(
@@ -176,10 +221,11 @@ fn check_output(
     observer: &mut dyn Observer,
 ) -> Result<(Format, Vec<Destination>), String> {
     let out = &request.output;
-    if request.format == Some(Format::PngSeq) {
+    let named = infer_format(out);
+    // A `%` in the name is a sequence's counter or an error, whatever --format says.
+    if request.format == Some(Format::PngSeq) || named == Some(Format::PngSeq) {
         sequence_name(out)?;
     }
-    let named = infer_format(out);
     // A single file is checked before its name: "it is the input" says more than "not a GIF".
     let single = if named == Some(Format::PngSeq) {
         None
@@ -330,12 +376,12 @@ mod tests {
 
     #[test]
     fn frame_counters_are_at_most_ten_digits() {
-        assert!(sequence_name(Path::new("f_%10d.png")).is_ok());
+        assert!(sequence_name(Path::new("f_%010d.png")).is_ok());
         assert!(sequence_name(Path::new("f_%d.png")).is_ok());
         for bad in [
-            "f_%11d.png",
-            "f_%65536d.png",
-            "f_%99999999999999999999999d.png",
+            "f_%011d.png",
+            "f_%065536d.png",
+            "f_%099999999999999999999999d.png",
         ] {
             let e = sequence_name(Path::new(bad)).unwrap_err();
             assert!(e.contains("at most 10 digits"), "{e}");
@@ -344,5 +390,42 @@ mod tests {
             sequence_path(Path::new("a/f_%04d.png"), 7),
             Path::new("a/f_0007.png")
         );
+    }
+
+    /// A sequence's name holds one `%d` or `%0Nd` and ends in `.png`; every other `%` form is
+    /// refused, naming it, never taken as a literal name or replaced in part.
+    #[test]
+    fn sequence_names_say_what_they_hold() {
+        let frame = |pattern: &str, k| sequence_path(Path::new(pattern), k);
+        assert_eq!(frame("f_%d.PNG", 12), Path::new("f_12.PNG"));
+        assert_eq!(frame("f_%03d_x.png", 7), Path::new("f_007_x.png"));
+        assert_eq!(frame("f_%0d.png", 7), Path::new("f_7.png"));
+        for (bad, says) in [
+            ("f_%d.gif", "end the name in .png"),
+            ("f_%d.apng", "end the name in .png"),
+            ("f_%d", "end the name in .png"),
+            ("f_%04d.png.bak", "end the name in .png"),
+            (
+                "g_%d_%d.png",
+                "`%d` and `%d`: a PNG sequence's name holds one frame counter",
+            ),
+            ("g_%04d_%d.png", "`%04d` and `%d`"),
+            ("f_%5d.png", "`%5d` is not a frame counter"),
+            ("f_%x.png", "`%x` is not a frame counter"),
+            ("f_%s.png", "`%s` is not a frame counter"),
+            ("f_%+d.png", "`%+d` is not a frame counter"),
+            ("f_%-04d.png", "`%-04d` is not a frame counter"),
+            ("f_%%.png", "`%%` is not a frame counter"),
+            ("100%.png", "`%.p` is not a frame counter"),
+            ("f_%", "`%` is not a frame counter"),
+            ("f_%é.png", "`%é` is not a frame counter"),
+        ] {
+            assert_eq!(infer_format(Path::new(bad)), Some(Format::PngSeq), "{bad}");
+            let e = sequence_name(Path::new(&format!("out/{bad}"))).unwrap_err();
+            assert!(e.starts_with(&format!("out/{bad}: ")), "{bad}: {e}");
+            assert!(e.contains(says), "{bad}: {e}");
+            assert_eq!(frame(bad, 3), Path::new(bad), "{bad}");
+        }
+        assert_eq!(infer_format(Path::new("f.apng")), Some(Format::Apng));
     }
 }

@@ -66,7 +66,10 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
     let mut terminal = Terminal { progress: None };
     let result = pointillist_animation::animate(
         &request,
-        || crate::backend::create(args.backend),
+        || {
+            crate::backend::create(args.backend)
+                .map(|b| crate::work::Limited::new(b, args.max_pixels))
+        },
         &mut terminal,
     );
     if let Some(bar) = terminal.progress.take() {

@@ -23,6 +23,7 @@ mod report;
 mod threads;
 #[cfg(feature = "viewer")]
 mod view;
+mod work;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -73,7 +74,11 @@ reported once each as a warning on standard error. Untransformed points are lit 
 points show only the ambient and emissive light (set LIGHTING = false for vertex colours).
 
 A scene with particle emitters or an [animation] renders one frame: frame 0, or --frame N
-(the particles simulated to warmup + N / fps seconds, the camera at N / fps).";
+(the particles simulated to warmup + N / fps seconds, the camera at N / fps).
+
+A draw whose points would write more than --max-pixels pixels (default 1e11, far beyond an
+interactive render: hours on the CPU) is refused before it is drawn; --max-pixels inf lifts
+the limit.";
 
 /// Examples shown at the end of `pointillist render --help`.
 const RENDER_EXAMPLES: &str = "\
@@ -282,7 +287,8 @@ OUT is written under a temporary name beside it and put in place when every fram
 sequence's frames all together): an error, Ctrl-C, SIGTERM or SIGHUP (exit status 130) leaves
 no partial file and existing files untouched. OUT is never the scene or a file it reads, nor
 anything but a regular file (a symbolic link is followed); an existing OUT keeps its
-permissions. A progress bar with an ETA is drawn on standard error when it is a terminal.";
+permissions. A progress bar with an ETA is drawn on standard error when it is a terminal.
+A draw that would write more than --max-pixels pixels is refused as `render` refuses it.";
 
 /// Examples shown at the end of `pointillist animate --help`.
 const ANIMATE_EXAMPLES: &str = "\
@@ -351,6 +357,9 @@ pub struct AnimateArgs {
     /// Device behaviour switches set over the scene's `[behaviour]`.
     #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
     pub behaviours: Vec<BehaviourSetting>,
+    /// Refuse a draw that would write more than N pixels (`inf`: no limit).
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// Arguments of `pointillist view`.
@@ -419,6 +428,9 @@ pub struct RenderArgs {
     /// Device behaviour switches set over the scene's `[behaviour]`.
     #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
     pub behaviours: Vec<BehaviourSetting>,
+    /// Refuse a draw that would write more than N pixels (`inf`: no limit).
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// `--compression`: pointillist_image::png::Compression (docs/PERFORMANCE.md).

@@ -559,7 +559,7 @@ fn hostile_scenes_are_one_line_with_file_line_and_key_and_leave_outputs_untouche
             "format = 1\n[target]\nwidth = 16384\nheight = 16384\n[[emitter]]\nrate = 1\n\
              max_particles = 16777216\n",
             ":7:17: emitter[0].max_particles: this emitter's particle storage takes 1.5 GiB, which \
-             brings the render to 4.8 GiB, above the memory budget of 4.0 GiB",
+             brings the render to 5.2 GiB, above the memory budget of 4.0 GiB (process 512.0 MiB",
         ),
         (
             "[viewport]\nx = 4\nwidth = 8\n",

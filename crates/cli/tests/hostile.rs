@@ -380,9 +380,9 @@ fn a_huge_frame_counter_width_is_an_error_not_a_panic() {
     let dir = TempDir::new("counter");
     let scene = dir.write("s.toml", SCENE);
     for pattern in [
-        "x_%65536d.png",
-        "x_%11d.png",
-        "x_%99999999999999999999d.png",
+        "x_%065536d.png",
+        "x_%011d.png",
+        "x_%099999999999999999999d.png",
     ] {
         let o = pointillist(&[
             "animate",
@@ -397,7 +397,7 @@ fn a_huge_frame_counter_width_is_an_error_not_a_panic() {
         "animate",
         path_arg(&scene),
         "-o",
-        path_arg(&dir.path("x_%10d.png")),
+        path_arg(&dir.path("x_%010d.png")),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.path("x_0000000003.png").exists());

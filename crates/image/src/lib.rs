@@ -270,18 +270,26 @@ pub fn load_texture(path: &Path) -> Result<Texture, ImageError> {
     })
 }
 
-/// The most memory [`load_texture`] holds at once for `path` besides the file's own bytes, read
-/// from the header alone so that a memory budget refuses a texture before it is decoded: a full
-/// mip chain of 4-byte texels, and for a PNG also the decoder's 8-bit output (4 bytes a pixel
-/// at most after expansion). 0 when the header gives no size within
-/// [`MAX_TEXTURE_SIZE`]: the decoder then refuses the file with its own message.
-pub fn texture_decode_bytes(path: &Path) -> u64 {
+/// What [`load_texture`] holds for a file besides the file's own bytes, read from its header
+/// alone so that a memory budget refuses a texture before it is decoded
+/// ([`texture_decode_cost`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct DecodeCost {
+    /// The texture: a full mip chain of 4-byte texels, held for the render.
+    pub texture: u64,
+    /// Held only while it is decoded: a PNG decoder's 8-bit output (4 bytes a pixel at most
+    /// after expansion); 0 for DDS.
+    pub scratch: u64,
+}
+
+/// The [`DecodeCost`] of the texture file at `path`, from its header; `None` when the header
+/// gives no size within [`MAX_TEXTURE_SIZE`] (the decoder then refuses the file with its own
+/// message).
+pub fn texture_decode_cost(path: &Path) -> Option<DecodeCost> {
     let mut head = Vec::with_capacity(24);
-    let read = fs::File::open(path)
-        .and_then(|f| io::Read::read_to_end(&mut io::Read::take(f, 24), &mut head));
-    if read.is_err() {
-        return 0;
-    }
+    fs::File::open(path)
+        .and_then(|f| io::Read::read_to_end(&mut io::Read::take(f, 24), &mut head))
+        .ok()?;
     let word = |at: usize, le: bool| -> Option<u32> {
         let b: [u8; 4] = head.get(at..at + 4)?.try_into().ok()?;
         Some(if le {
@@ -300,25 +308,23 @@ pub fn texture_decode_bytes(path: &Path) -> u64 {
         Some(Format::Dds) => word(16, true).zip(word(12, true)),
         _ => None,
     };
-    let Some((w, h)) = size.filter(|&(w, h)| {
+    let (w, h) = size.filter(|&(w, h)| {
         (1..=MAX_TEXTURE_SIZE).contains(&w) && (1..=MAX_TEXTURE_SIZE).contains(&h)
-    }) else {
-        return 0;
-    };
-    let (mut lw, mut lh, mut chain) = (u64::from(w), u64::from(h), 0);
+    })?;
+    let (mut lw, mut lh, mut texture) = (u64::from(w), u64::from(h), 0);
     loop {
-        chain += lw * lh * 4;
+        texture += lw * lh * 4;
         if lw == 1 && lh == 1 {
             break;
         }
         (lw, lh) = ((lw / 2).max(1), (lh / 2).max(1));
     }
-    let output = if format == Some(Format::Png) {
+    let scratch = if format == Some(Format::Png) {
         u64::from(w) * u64::from(h) * 4
     } else {
         0
     };
-    chain + output
+    Some(DecodeCost { texture, scratch })
 }
 
 /// Saves a render target as an RGBA8 PNG holding its exact bytes, alpha included, through

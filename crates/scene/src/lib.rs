@@ -58,8 +58,13 @@ pub const MAX_TARGET_SIZE: u32 = pointillist_core::MAX_TARGET_SIZE;
 /// The most memory one render may hold, in bytes (docs/spec/PARTICLES.md, limits): the target (its
 /// colour and depth buffers and the RGBA8 copy written out, 12 bytes a pixel), every texture with
 /// its mip chain, every draw's vertices and every emitter's particle storage. A scene over it is
-/// refused while it is read, at the key that crosses it, before the memory is taken.
+/// refused while it is read, at the key that crosses it, before the memory is taken. Part of it,
+/// [`PROCESS_BYTES`], is kept for the process itself.
 pub const MEMORY_BUDGET: u64 = 4 << 30;
+/// The part of [`MEMORY_BUDGET`] kept for the process itself: its code, thread stacks and the
+/// allocator's slack, which a render's buffers do not count, so that what the budget accepts
+/// also runs under a limit of 4 GB (decimal).
+pub const PROCESS_BYTES: u64 = 512 << 20;
 /// Bytes a render holds per target pixel: D3DCOLOR, depth and the PNG written out (the target
 /// is converted to RGBA8 where it lies; the encoder holds the compressed image until it ends,
 /// as large as the pixels when they do not compress). The render also holds one draw's scratch,

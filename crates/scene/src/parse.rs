@@ -26,7 +26,7 @@ use crate::reader::{
     integer_in, string, table, u32_value,
 };
 use crate::{
-    Command, MAX_EMITTERS, MAX_TARGET_SIZE, MEMORY_BUDGET, Scene, SceneError, Step,
+    Command, MAX_EMITTERS, MAX_TARGET_SIZE, MEMORY_BUDGET, PROCESS_BYTES, Scene, SceneError, Step,
     TARGET_BYTES_PER_PIXEL, TargetDesc,
 };
 
@@ -100,6 +100,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
         src,
         base,
         textures: HashMap::new(),
+        charged_textures: HashMap::new(),
         target: TargetDesc {
             width: 0,
             height: 0,
@@ -108,7 +109,10 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Scene, SceneError> {
         },
         viewport: None,
         steps: Vec::new(),
-        memory: Memory::default(),
+        memory: Memory {
+            process: PROCESS_BYTES,
+            ..Memory::default()
+        },
         inputs: vec![file.to_path_buf()],
     };
     p.scene(&root)
@@ -160,6 +164,9 @@ struct Parser<'a> {
     base: PathBuf,
     /// Textures loaded so far, by resolved path.
     textures: HashMap<PathBuf, Arc<Texture>>,
+    /// Texture files charged from their headers before the first was decoded, by resolved
+    /// path: the bytes charged.
+    charged_textures: HashMap<PathBuf, u64>,
     target: TargetDesc,
     /// The viewport in force, once the top level has set it.
     viewport: Option<Viewport>,
@@ -173,6 +180,7 @@ struct Parser<'a> {
 /// Bytes a render will hold, by kind (docs/spec/PARTICLES.md, limits).
 #[derive(Copy, Clone, Debug, Default)]
 struct Memory {
+    process: u64,
     target: u64,
     textures: u64,
     vertices: u64,
@@ -190,7 +198,7 @@ pub(crate) enum Charge {
 
 impl Memory {
     fn total(&self) -> u64 {
-        self.target + self.textures + self.vertices + self.particles
+        self.process + self.target + self.textures + self.vertices + self.particles
     }
 }
 
@@ -273,6 +281,7 @@ impl Parser<'_> {
             target,
             "target",
         );
+        self.charge_texture_files(&f)?;
         self.changes(&f, true)?;
         if let Some(draws) = f.get("draw") {
             let list = match draws.get_ref() {
@@ -361,10 +370,11 @@ impl Parser<'_> {
                 key,
                 format!(
                     "{what} takes {}, which brings the render to {}, above the memory budget \
-                     of {} (target {}, textures {}, vertices {}, particles {})",
+                     of {} (process {}, target {}, textures {}, vertices {}, particles {})",
                     bytes_text(bytes),
                     bytes_text(m.total()),
                     bytes_text(MEMORY_BUDGET),
+                    bytes_text(m.process),
                     bytes_text(m.target),
                     bytes_text(m.textures),
                     bytes_text(m.vertices),

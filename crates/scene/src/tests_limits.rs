@@ -150,8 +150,8 @@ fn a_scene_over_the_memory_budget_is_refused_at_the_key_that_crosses_it() {
     assert_eq!(
         err_at(src, Path::new("big.toml")),
         "big.toml:7:17: emitter[0].max_particles: this emitter's particle storage takes 1.5 GiB, \
-         which brings the render to 4.8 GiB, above the memory budget of 4.0 GiB (target 3.2 \
-         GiB, textures 0 B, vertices 0 B, particles 1.5 GiB)"
+         which brings the render to 5.2 GiB, above the memory budget of 4.0 GiB (process \
+         512.0 MiB, target 3.2 GiB, textures 0 B, vertices 0 B, particles 1.5 GiB)"
     );
     // Half of each fits.
     let src = "format = 1\n[target]\nwidth = 16384\nheight = 8192\n\
@@ -178,13 +178,14 @@ fn a_texture_is_charged_from_its_header_before_it_is_decoded() {
              [[texture]]\nstage = 0\nfile = \"huge.png\"\n"
         )
     };
-    // 3.25 GiB of target and draw scratch, then 512 MiB of decoder output and a 682.7 MiB mip chain.
+    // 512 MiB for the process, 2.7 GiB of target and draw scratch and the 682.7 MiB mip chain
+    // fit; 512 MiB of decoder output with them does not.
     assert_eq!(
-        err_at(&scene(16384), &file),
+        err_at(&scene(13312), &file),
         format!(
-            "{}:7:8: texture[0].file: decoding this texture file takes 1.2 GiB, which brings the \
-             render to 4.4 GiB, above the memory budget of 4.0 GiB (target 3.2 GiB, textures \
-             1.2 GiB, vertices 0 B, particles 0 B)",
+            "{}:7:8: texture[0].file: decoding this texture file takes 512.0 MiB, which brings \
+             the render to 4.4 GiB, above the memory budget of 4.0 GiB (process 512.0 MiB, \
+             target 2.7 GiB, textures 1.2 GiB, vertices 0 B, particles 0 B)",
             file.display()
         )
     );
@@ -192,12 +193,75 @@ fn a_texture_is_charged_from_its_header_before_it_is_decoded() {
     let e = err_at(&scene(1024), &file);
     assert!(e.contains("texture[0].file: cannot load texture"), "{e}");
     assert_eq!(
-        pointillist_image::texture_decode_bytes(&dir.join("huge.png")),
-        16384 * 8192 * 4
-            + (0..15)
+        pointillist_image::texture_decode_cost(&dir.join("huge.png")),
+        Some(pointillist_image::DecodeCost {
+            texture: (0..15)
                 .map(|i| (16384u64 >> i).max(1) * (8192u64 >> i).max(1) * 4)
-                .sum::<u64>()
+                .sum::<u64>(),
+            scratch: 16384 * 8192 * 4,
+        })
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A PNG that is only a signature and an IHDR of `width` x `height`, 8-bit RGBA.
+fn png_header(width: u32, height: u32) -> Vec<u8> {
+    let mut png = b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR".to_vec();
+    png.extend_from_slice(&width.to_be_bytes());
+    png.extend_from_slice(&height.to_be_bytes());
+    png.extend_from_slice(&[8, 6, 0, 0, 0, 0, 0, 0, 0]);
+    png
+}
+
+/// Every texture file is charged from its header before the first is decoded, and the process
+/// keeps its own part of the budget: two 16384x16384 PNGs (1.3 GiB each with their mip chains)
+/// were accepted and peaked at 3.85 GB decoding the second; with a third, the budget refused it
+/// only after decoding the first two. Here PNGs that are only headers: a decode would fail.
+#[test]
+fn textures_are_charged_together_before_the_first_is_decoded() {
+    let dir = scratch("together");
+    for name in ["a.png", "b.png", "c.png"] {
+        std::fs::write(dir.join(name), png_header(16384, 16384)).unwrap();
+    }
+    let file = dir.join("s.toml");
+    // The third, in an emitter, is refused before the first is decoded.
+    let src = format!(
+        "{HEAD}[[texture]]\nstage = 0\nfile = \"a.png\"\n\
+         [[draw]]\nfvf = \"XYZRHW\"\nvertices = [[1, 1, 0.5, 1]]\n\
+         [[draw.texture]]\nstage = 1\nfile = \"b.png\"\n\
+         [[emitter]]\nrate = 1\ntexture = \"c.png\"\n"
+    );
+    let e = err_at(&src, &file);
+    assert!(
+        e.starts_with(&format!(
+            "{}:16:11: emitter[0].texture: this texture takes 1.3 GiB, which brings the render \
+             to 4.8 GiB, above the memory budget of 4.0 GiB (process 512.0 MiB, ",
+            file.display()
+        )),
+        "{e}"
+    );
+    // Two of them: the first decode, 1.0 GiB of decoder output beside both mip chains, is
+    // refused before it starts.
+    let src = format!(
+        "{HEAD}[[texture]]\nstage = 0\nfile = \"a.png\"\n\
+         [[texture]]\nstage = 1\nfile = \"b.png\"\n\
+         [[texture]]\nstage = 2\nfile = \"a.png\"\n"
+    );
+    let e = err_at(&src, &file);
+    assert!(
+        e.starts_with(&format!(
+            "{}:7:8: texture[0].file: decoding this texture file takes 1.0 GiB, which brings the \
+             render to 4.4 GiB, above the memory budget of 4.0 GiB (process 512.0 MiB, ",
+            file.display()
+        )),
+        "{e}"
+    );
+    // Smaller ones are charged once each, and decoded (failing here as the headers they are).
+    for name in ["a.png", "b.png"] {
+        std::fs::write(dir.join(name), png_header(8192, 8192)).unwrap();
+    }
+    let e = err_at(&src, &file);
+    assert!(e.contains("texture[0].file: cannot load texture"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

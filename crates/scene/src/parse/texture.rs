@@ -6,7 +6,11 @@ use std::sync::Arc;
 use pointillist_core::texture::{MAX_TEXTURE_SIZE, Texture};
 
 use super::{Charge, MAX_STAGE, Parser, check_readable};
-use crate::reader::{Fields, Value, array, boolean, fields, index, integer_in, string, u32_value};
+use toml::de::DeValue;
+
+use crate::reader::{
+    Fields, Value, array, boolean, fields, index, integer_in, join, string, u32_value,
+};
 use crate::{Command, SceneError};
 
 impl Parser<'_> {
@@ -80,10 +84,17 @@ impl Parser<'_> {
         }
         let len = check_readable(&self.src, v, path, &file, "texture")?;
         self.inputs.push(file.clone());
-        // The file's bytes and the decoder's buffers are held while it is decoded: charged
-        // from the header, before decoding.
+        // The file's bytes and the decoder's scratch are held while it is decoded, and the
+        // texture itself unless it was charged before the first decode: charged from the
+        // header, before decoding.
+        let charged = self.charged_textures.get(&key).copied();
+        let cost = pointillist_image::texture_decode_cost(&file);
+        let scratch = cost.map_or(0, |c| c.scratch);
+        let texture = cost.map_or(0, |c| c.texture);
         let before = self.memory;
-        let decoding = len.saturating_add(pointillist_image::texture_decode_bytes(&file));
+        let decoding = len
+            .saturating_add(scratch)
+            .saturating_add(if charged.is_some() { 0 } else { texture });
         self.charge(
             Charge::Textures,
             decoding,
@@ -98,7 +109,7 @@ impl Parser<'_> {
         })?;
         self.charge(
             Charge::Textures,
-            texture_bytes(&texture),
+            texture_bytes(&texture).saturating_sub(charged.unwrap_or(0)),
             v,
             path,
             "this texture",
@@ -106,6 +117,66 @@ impl Parser<'_> {
         let texture = Arc::new(texture);
         self.textures.insert(key, Arc::clone(&texture));
         Ok(texture)
+    }
+
+    /// Charges every texture file the scene names from its header, before the first is
+    /// decoded, so that textures over the budget together are refused before any decoding
+    /// work: `[[texture]] file` at the top level and in each `[[draw]]`, and `[[emitter]]
+    /// texture`, each file once. What does not name a readable file with a size in its header
+    /// is left for the walk to refuse in its place.
+    pub(super) fn charge_texture_files(&mut self, top: &Fields<'_, '_>) -> Result<(), SceneError> {
+        fn get<'t, 'i>(v: &'t Value<'i>, key: &str) -> Option<&'t Value<'i>> {
+            match v.get_ref() {
+                DeValue::Table(t) => t.get(key),
+                _ => None,
+            }
+        }
+        // One table or an array of them, with their key paths.
+        fn each<'t, 'i>(v: Option<&'t Value<'i>>, path: &str) -> Vec<(&'t Value<'i>, String)> {
+            match v.map(|v| (v, v.get_ref())) {
+                Some((v, DeValue::Table(_))) => vec![(v, path.to_owned())],
+                Some((_, DeValue::Array(list))) => list
+                    .iter()
+                    .enumerate()
+                    .map(|(i, item)| (item, index(path, i)))
+                    .collect(),
+                _ => Vec::new(),
+            }
+        }
+        // The `file` of each `[[texture]]` table of `owner`.
+        fn textures<'t, 'i>(owner: &str, v: Option<&'t Value<'i>>) -> Vec<(&'t Value<'i>, String)> {
+            each(v, &join(owner, "texture"))
+                .into_iter()
+                .filter_map(|(t, path)| Some((get(t, "file")?, join(&path, "file"))))
+                .collect()
+        }
+        let mut files = textures("", top.get("texture"));
+        for (draw, path) in each(top.get("draw"), "draw") {
+            files.extend(textures(&path, get(draw, "texture")));
+        }
+        for (emitter, path) in each(top.get("emitter"), "emitter") {
+            if let Some(v) = get(emitter, "texture") {
+                files.push((v, join(&path, "texture")));
+            }
+        }
+        for (v, path) in files {
+            let DeValue::String(name) = v.get_ref() else {
+                continue;
+            };
+            let file = self.base.join(name.as_ref());
+            let key = file.canonicalize().unwrap_or_else(|_| file.clone());
+            if self.charged_textures.contains_key(&key)
+                || !std::fs::metadata(&file).is_ok_and(|m| m.is_file())
+            {
+                continue;
+            }
+            let Some(cost) = pointillist_image::texture_decode_cost(&file) else {
+                continue;
+            };
+            self.charge(Charge::Textures, cost.texture, v, &path, "this texture")?;
+            self.charged_textures.insert(key, cost.texture);
+        }
+        Ok(())
     }
 
     fn inline_texture(&self, f: &Fields<'_, '_>) -> Result<Texture, SceneError> {
