@@ -436,7 +436,12 @@ fn run_replayer(
     inputs: &[PathBuf],
     watch: &Watch,
 ) -> Result<Captures, String> {
-    fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    fs::create_dir_all(out_dir).map_err(|e| {
+        format!(
+            "cannot create the replayer's output folder {}: {e}",
+            out_dir.display()
+        )
+    })?;
     clear_outputs(out_dir, names, inputs)?;
     let log_file = Destination::check(log, inputs)
         .and_then(|d| d.create())
@@ -597,7 +602,10 @@ pub fn run(
             };
             let exe = std::path::absolute(&exe).map_err(|e| e.to_string())?;
             if !exe.is_file() {
-                return Err(format!("the replayer {} does not exist", exe.display()));
+                return Err(format!(
+                    "the replayer {} is not an existing file",
+                    exe.display()
+                ));
             }
             for tool in ["xvfb-run", "wine"] {
                 let found = Command::new("sh")
