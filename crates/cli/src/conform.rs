@@ -3,10 +3,12 @@
 
 use std::path::Path;
 use std::process::ExitCode;
+use std::time::Duration;
 
-use pointillist_conformance::runner::Runner;
-use pointillist_conformance::{Options, conform, export, find_cases};
+use pointillist_conformance::runner::{Runner, Watch};
+use pointillist_conformance::{Options, conform_with, export, find_cases};
 
+use crate::interrupt::ChildGuard;
 use crate::{ConformArgs, ExportCallsArgs};
 
 /// Exit status of `conform` when a case ends otherwise than expected.
@@ -54,6 +56,20 @@ pub fn run_export(args: &ExportCallsArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// Parses `--case-timeout` and `--timeout`: seconds above 0.
+pub fn parse_seconds(text: &str) -> Result<Duration, String> {
+    text.parse::<f64>()
+        .ok()
+        .filter(|s| *s > 0.0)
+        .and_then(|s| Duration::try_from_secs_f64(s).ok())
+        .ok_or_else(|| "expected a number of seconds above 0, such as 300 or 0.5".to_string())
+}
+
+/// Registers a replayer's process group with the signal handler, which kills it.
+fn guard_group(pid: u32) -> Box<dyn std::any::Any> {
+    Box::new(ChildGuard::group(pid))
+}
+
 /// Runs `pointillist conform` and returns its exit status: 0 when every case ends as expected,
 /// 1 when one does not, 2 when the kit cannot run.
 pub fn run_conform(args: &ConformArgs) -> ExitCode {
@@ -71,9 +87,16 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
         expect: args.expect.clone(),
         behaviours: args.behaviours.clone(),
     };
-    let summary = match conform(&opts) {
+    let defaults = Watch::default();
+    let watch = Watch {
+        case_limit: args.case_timeout.unwrap_or(defaults.case_limit),
+        total_limit: args.timeout.unwrap_or(defaults.total_limit),
+        guard: guard_group,
+    };
+    let summary = match conform_with(&opts, &watch) {
         Ok(summary) => summary,
         Err(e) => {
+            crate::interrupt::wait_if_ending();
             crate::report::errln!("error: {}", e.lines().next().unwrap_or(""));
             return ExitCode::from(KIT_FAILED);
         }

@@ -16,10 +16,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Exit status of a run stopped by a signal (128 + SIGINT), as shells report Ctrl-C.
 pub const INTERRUPTED: i32 = 130;
 
-/// Child processes to kill on a signal, by process id.
-static CHILDREN: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+/// Child processes to kill on a signal, by process id, each with whether it leads a process
+/// group to kill whole.
+static CHILDREN: Mutex<Vec<(u32, bool)>> = Mutex::new(Vec::new());
 
-fn children() -> std::sync::MutexGuard<'static, Vec<u32>> {
+fn children() -> std::sync::MutexGuard<'static, Vec<(u32, bool)>> {
     CHILDREN.lock().unwrap_or_else(|e| e.into_inner())
 }
 
@@ -56,22 +57,27 @@ pub fn end(status: i32) -> ! {
 /// were committed.
 fn stop() -> usize {
     ENDING.store(true, Ordering::SeqCst);
-    for pid in children().drain(..) {
-        kill(pid);
+    for (pid, group) in children().drain(..) {
+        kill(pid, group);
     }
     pointillist_image::output::discard_pending()
 }
 
-/// Kills a child process at once and reaps it, so that it writes nothing more.
+/// Kills a child process (with its process group when it leads one) at once and reaps it, so
+/// that it writes nothing more.
 #[cfg(unix)]
 #[allow(unsafe_code)]
-fn kill(pid: u32) {
+fn kill(pid: u32, group: bool) {
     let Ok(pid) = libc::pid_t::try_from(pid) else {
         return;
     };
     // SAFETY: kill(2) and waitpid(2) take plain integers and a null status pointer; `pid` is a
-    // child of this process that has not been reaped (its guard is still registered).
+    // child of this process that has not been reaped (its guard is still registered), so as a
+    // group id it names only the group it leads.
     unsafe {
+        if group {
+            libc::kill(-pid, libc::SIGKILL);
+        }
         if libc::kill(pid, libc::SIGKILL) == 0 {
             libc::waitpid(pid, std::ptr::null_mut(), 0);
         }
@@ -80,7 +86,7 @@ fn kill(pid: u32) {
 
 /// Elsewhere the child goes with the console's Ctrl-C.
 #[cfg(not(unix))]
-fn kill(_pid: u32) {}
+fn kill(_pid: u32, _group: bool) {}
 
 /// Ends the process at once: `_exit(2)`, so that no exit handler of a library (Mesa's, say)
 /// runs while other threads are still drawing.
@@ -103,14 +109,20 @@ pub struct ChildGuard(u32);
 impl ChildGuard {
     /// Registers process `pid`.
     pub fn new(pid: u32) -> ChildGuard {
-        children().push(pid);
+        children().push((pid, false));
+        ChildGuard(pid)
+    }
+
+    /// Registers process `pid`, which leads its own process group: the whole group is killed.
+    pub fn group(pid: u32) -> ChildGuard {
+        children().push((pid, true));
         ChildGuard(pid)
     }
 }
 
 impl Drop for ChildGuard {
     fn drop(&mut self) {
-        children().retain(|&p| p != self.0);
+        children().retain(|&(p, _)| p != self.0);
     }
 }
 

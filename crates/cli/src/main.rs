@@ -209,7 +209,12 @@ replayed by one of:
   --captures DIR      a folder a replayer filled earlier (a Windows machine with real hardware)
 pointillist renders each scene with the device's MaxPointSize, D3DFVFCAPS_PSIZE and
 CLIPPLANESCALEDPOINTS, and compares with SPEC 7's tolerances. REPORT receives report.json,
-index.html and the images.
+index.html and the images; nothing else in it is touched.
+
+A replayer that writes no result for --case-timeout seconds (default 300) is stopped, with every
+process it started, and its case fails; the cases after it are replayed by a new start. The
+replay as a whole is stopped after --timeout seconds (default 3600), and the cases it did not
+reach fail.
 
 Exit status: 0 when every case matches or ends as the --expect FILE of known differences says,
 1 when a case does not, 2 when the kit itself cannot run.";
@@ -270,6 +275,14 @@ pub struct ConformArgs {
     /// Device behaviour switches set over the scene's `[behaviour]`.
     #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
     pub behaviours: Vec<BehaviourSetting>,
+    /// With a replayer: a case without a result for SECS seconds fails and the replayer is
+    /// stopped (default 300).
+    #[arg(long, value_name = "SECS", value_parser = conform::parse_seconds, allow_negative_numbers = true, conflicts_with = "captures")]
+    pub case_timeout: Option<std::time::Duration>,
+    /// With a replayer: the whole replay's time limit in seconds; the cases it does not reach
+    /// fail (default 3600).
+    #[arg(long, value_name = "SECS", value_parser = conform::parse_seconds, allow_negative_numbers = true, conflicts_with = "captures")]
+    pub timeout: Option<std::time::Duration>,
 }
 
 /// The long description of `pointillist animate --help`.

@@ -69,7 +69,9 @@ pub struct Expectations {
 impl Expectations {
     /// Reads and checks an expectations file; errors name the file and line.
     pub fn load(path: &Path) -> Result<Expectations, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut crate::runner::open_regular(path)?, &mut text)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         Self::parse(&text, path)
     }
 

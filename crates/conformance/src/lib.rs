@@ -36,7 +36,8 @@ use pointillist_scene::Scene;
 
 use crate::expect::{Expectations, Status};
 use crate::report::{CaseImages, CaseReport};
-use crate::runner::{DeviceInfo, Image, Outcome, Runner};
+use crate::runner::{DeviceInfo, Image, Outcome, Runner, Watch};
+use pointillist_image::output::Destination;
 
 /// One case: a scene file and the name its stream, images and expectations go by.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -191,16 +192,25 @@ struct Prepared {
     scene: Result<(Scene, pointillist_core::tolerance::Tolerance), String>,
 }
 
-fn prepare(case: Case, calls_dir: &Path) -> Prepared {
-    let scene = pointillist_scene::load(&case.scene)
-        .map_err(|e| e.to_string())
-        .and_then(|scene| {
-            let ex = export::export(&scene, scene.caps, None)?;
+/// Exports a loaded case into `calls_dir`; `Err` only when its stream cannot be written (the
+/// report folder is unusable), never over one of `inputs`.
+fn prepare(
+    case: Case,
+    scene: Result<Scene, String>,
+    calls_dir: &Path,
+    inputs: &[PathBuf],
+) -> Result<Prepared, String> {
+    let scene = match scene.and_then(|s| export::export(&s, s.caps, None).map(|ex| (s, ex))) {
+        Ok((scene, ex)) => {
             let file = calls_dir.join(format!("{}.calls", case.name));
-            fs::write(&file, &ex.stream).map_err(|e| format!("{}: {e}", file.display()))?;
+            Destination::check(&file, inputs)
+                .and_then(|d| d.write_bytes(&ex.stream))
+                .map_err(|e| e.to_string())?;
             Ok((scene, ex.tolerance))
-        });
-    Prepared { case, scene }
+        }
+        Err(e) => Err(e),
+    };
+    Ok(Prepared { case, scene })
 }
 
 /// The `[case]` title and rules of a scene.
@@ -268,13 +278,15 @@ fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
     })
 }
 
-/// Compares one case with what the device drew and writes its images.
+/// Compares one case with what the device drew and writes its images (never over one of
+/// `inputs`); `settings` are the behaviours set over the scene's.
 fn judge(
     p: &Prepared,
     outcome: Option<&Outcome>,
     device: &DeviceInfo,
     dir: &Path,
     settings: &[BehaviourSetting],
+    inputs: &[PathBuf],
 ) -> CaseReport {
     let mut r = CaseReport {
         name: p.case.name.clone(),
@@ -394,9 +406,14 @@ fn judge(
     ];
     for (file, image) in &files {
         let path = dir.join(file);
-        if let Err(e) =
-            pointillist_image::write_png_atomic(&path, image.width, image.height, &image.rgba)
-        {
+        if let Err(e) = Destination::check(&path, inputs).and_then(|d| {
+            d.write_png(
+                image.width,
+                image.height,
+                &image.rgba,
+                pointillist_image::png::Compression::Fast,
+            )
+        }) {
             r.status = Status::Error;
             r.message = format!("cannot write {}: {e}", path.display());
             return r;
@@ -412,10 +429,18 @@ fn judge(
     r
 }
 
-/// Runs the kit: exports every case into `REPORT/calls`, replays them with the runner, compares,
-/// and writes `REPORT/report.json`, `REPORT/index.html` and the images in `REPORT/img`. `Err`
-/// only when the kit itself cannot run (no case found, no device, the report not writable).
+/// [`conform_with`] and the default [`Watch`].
 pub fn conform(opts: &Options) -> Result<Summary, String> {
+    conform_with(opts, &Watch::default())
+}
+
+/// Runs the kit: exports every case into `REPORT/calls`, replays them with the runner (watched
+/// by `watch`), compares, and writes `REPORT/report.json`, `REPORT/index.html` and the images
+/// in `REPORT/img`. Nothing else in REPORT is touched, and no input (a scene and its files, the
+/// expectations, the captures) is written or removed. `Err` only when the kit itself cannot run
+/// (no case found, no device, the report not writable).
+pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
+    opts.runner.check()?;
     let expectations = match &opts.expect {
         Some(path) => Expectations::load(path)?,
         None => Expectations::default(),
@@ -426,13 +451,36 @@ pub fn conform(opts: &Options) -> Result<Summary, String> {
     for d in [&calls_dir, &dir.join("img")] {
         fs::create_dir_all(d).map_err(|e| format!("cannot create {}: {e}", d.display()))?;
     }
-    let prepared: Vec<Prepared> = cases.into_iter().map(|c| prepare(c, &calls_dir)).collect();
+    let loaded: Vec<(Case, Result<Scene, String>)> = cases
+        .into_iter()
+        .map(|c| {
+            let scene = pointillist_scene::load(&c.scene).map_err(|e| e.to_string());
+            (c, scene)
+        })
+        .collect();
+    let mut inputs: Vec<PathBuf> = opts.expect.iter().cloned().collect();
+    for (case, scene) in &loaded {
+        inputs.push(case.scene.clone());
+        if let Ok(scene) = scene {
+            inputs.extend(scene.inputs.iter().cloned());
+        }
+        if let Runner::Captures(captures) = &opts.runner {
+            inputs.push(captures.join(format!("{}.png", case.name)));
+        }
+    }
+    if let Runner::Captures(captures) = &opts.runner {
+        inputs.extend(["device.txt", "results.txt"].map(|f| captures.join(f)));
+    }
+    let prepared = loaded
+        .into_iter()
+        .map(|(c, scene)| prepare(c, scene, &calls_dir, &inputs))
+        .collect::<Result<Vec<Prepared>, String>>()?;
     let names: Vec<String> = prepared
         .iter()
         .filter(|p| p.scene.is_ok())
         .map(|p| p.case.name.clone())
         .collect();
-    let captures = runner::run(&opts.runner, &calls_dir, &names, dir)?;
+    let captures = runner::run(&opts.runner, &calls_dir, &names, dir, &inputs, watch)?;
     let mut summary = Summary {
         cases: prepared.len(),
         ..Summary::default()
@@ -445,6 +493,7 @@ pub fn conform(opts: &Options) -> Result<Summary, String> {
             &captures.device,
             dir,
             &opts.behaviours,
+            &inputs,
         );
         r.verdict = expectations.check(&r.name, r.status, r.pixels_differing, r.matching);
         r.explanation = expectations
@@ -466,7 +515,8 @@ pub fn conform(opts: &Options) -> Result<Summary, String> {
     }
     summary.behaviours = classify::profile(reports.iter().map(|r| &r.shown));
     let write = |name: &str, text: String| {
-        pointillist_image::write_file_atomic(&dir.join(name), text.as_bytes())
+        Destination::check(&dir.join(name), &inputs)
+            .and_then(|d| d.write_bytes(text.as_bytes()))
             .map_err(|e| e.to_string())
     };
     write(

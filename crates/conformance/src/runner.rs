@@ -6,15 +6,21 @@
 //! any command that takes the replayer's arguments; [`Runner::Captures`] reads a folder a
 //! replayer filled earlier (on a Windows machine, say). When the replayer stops before the end
 //! (a crash in a driver), the case it stopped in is reported as an error and the run goes on
-//! with the cases after it.
+//! with the cases after it; when it makes no progress for [`Watch::case_limit`], it is stopped
+//! (its whole process group) and the case is reported the same way, and when the replay takes
+//! [`Watch::total_limit`], the cases left are errors. Every file a run writes goes through
+//! [`Destination`] (never into a device, a pipe or an input); in the report folder only the
+//! run's own files are replaced.
 
+use std::any::Any;
 use std::collections::HashMap;
 use std::fs;
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
 
-use pointillist_image::output::Destination;
+use pointillist_image::output::{Destination, file_kind};
 
 /// The C source of the replayer, built by [`build_replayer`].
 pub const REPLAYER_SOURCE: &str = include_str!("../replayer/replayer.c");
@@ -33,6 +39,47 @@ pub enum Runner {
     Command(String),
     /// A folder a replayer filled earlier.
     Captures(PathBuf),
+}
+
+impl Runner {
+    /// What can be told wrong before any work: an empty command.
+    pub fn check(&self) -> Result<(), String> {
+        match self {
+            Runner::Command(cmd) if cmd.trim().is_empty() => Err(
+                "--runner-cmd is empty: give the command that runs the replayer (it is run with \
+                 the arguments OUTDIR @LIST)"
+                    .into(),
+            ),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// How a replayer is watched while it runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Watch {
+    /// How long the replayer may go without writing a result (the first one includes Wine's
+    /// start) before the case it is in fails and it is stopped (`--case-timeout`).
+    pub case_limit: Duration,
+    /// How long the whole replay may take, restarts included (`--timeout`); the cases it does
+    /// not reach fail.
+    pub total_limit: Duration,
+    /// Called with the process id of each replayer started, which leads its own process group;
+    /// the value returned is kept while the group may run (the CLI registers the group with its
+    /// signal handler, which kills it).
+    pub guard: fn(u32) -> Box<dyn Any>,
+}
+
+impl Default for Watch {
+    /// 300 s a case and an hour in all: far above what a real suite takes (Wine starts in
+    /// about 20 s; the suite replays in a few minutes).
+    fn default() -> Watch {
+        Watch {
+            case_limit: Duration::from_secs(300),
+            total_limit: Duration::from_secs(3600),
+            guard: |_| Box::new(()),
+        }
+    }
 }
 
 /// The device's identity and the caps the kit compares with (from `device.txt`).
@@ -139,10 +186,33 @@ pub struct Captures {
     pub outcomes: HashMap<String, Outcome>,
 }
 
+/// Opens `path` for reading when it is a regular file (links followed); anything else (a
+/// named pipe, which would block the open, a device, a folder) is refused, naming it.
+pub fn open_regular(path: &Path) -> Result<fs::File, String> {
+    let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    let mut options = fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        // Without it, opening a named pipe waits for a writer; reads of a regular file ignore it.
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|e| fail(&e))?;
+    let meta = file.metadata().map_err(|e| fail(&e))?;
+    if !meta.is_file() {
+        return Err(fail(&format_args!(
+            "it is not a regular file ({})",
+            file_kind(&meta)
+        )));
+    }
+    Ok(file)
+}
+
 /// Reads a PNG the replayer wrote: 8-bit RGBA only.
 pub fn read_png(path: &Path) -> Result<Image, String> {
     let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
-    let file = fs::File::open(path).map_err(|e| fail(&e))?;
+    let file = open_regular(path)?;
     let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
     decoder.set_transformations(png::Transformations::IDENTITY);
     let mut reader = decoder.read_info().map_err(|e| fail(&e))?;
@@ -211,7 +281,8 @@ pub fn build_replayer(out: &Path) -> Result<(), String> {
         fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     let source = out.with_extension("c");
-    fs::write(&source, REPLAYER_SOURCE).map_err(|e| format!("{}: {e}", source.display()))?;
+    pointillist_image::write_file_atomic(&source, REPLAYER_SOURCE.as_bytes())
+        .map_err(|e| e.to_string())?;
     let mut exe = Destination::check(out, &[])
         .and_then(|d| d.create())
         .map_err(|e| e.to_string())?;
@@ -250,31 +321,159 @@ pub fn cached_replayer() -> Result<PathBuf, String> {
     Ok(exe)
 }
 
-/// The shell command that runs the replayer `exe` under Wine in a virtual X display. Every Wine
-/// process of the run sees the same display, and the wineserver is waited for before the
-/// display goes (docs/CONFORMANCE.md, "Wine").
-fn wine_command(exe: &Path) -> String {
-    format!(
-        "xvfb-run -a sh -c 'wine \"{}\" \"$@\"; status=$?; wineserver -w; exit $status' wine",
-        exe.display()
-    )
+/// The script `xvfb-run -a sh -c SCRIPT wine EXE OUTDIR @LIST` runs: the replayer under Wine
+/// in a virtual X display, its path an argument. Every Wine process of the run sees the same
+/// display, and the wineserver is waited for before the display goes (docs/CONFORMANCE.md,
+/// "Wine").
+const WINE_SCRIPT: &str =
+    "exe=$1; shift; wine \"$exe\" \"$@\"; status=$?; wineserver -w; exit $status";
+
+/// How one start of the replayer ended.
+enum End {
+    Exited(ExitStatus),
+    /// No new result within [`Watch::case_limit`]: stopped.
+    Stalled,
+    /// [`Watch::total_limit`] reached: stopped.
+    OutOfTime,
 }
 
-/// Runs `cmd` (a shell command) with the arguments `OUTDIR @LIST` in `calls_dir`, with `env`
-/// added where the caller's environment does not set it, until every case in `names` has a
-/// result; output goes to `log`. A case the replayer stopped in fails with that message and the
-/// replayer is started again on the cases after it; after three starts in a row that replay
-/// nothing, every case left fails.
+/// Kills the process group `child` leads, then reaps `child`.
+#[cfg(unix)]
+#[allow(unsafe_code)]
+fn kill_group(child: &mut Child) {
+    if let Ok(pid) = libc::pid_t::try_from(child.id()) {
+        // SAFETY: kill(2) takes plain integers. `child` leads its own process group and is not
+        // reaped yet, so the group's id names no other group.
+        unsafe { libc::kill(-pid, libc::SIGKILL) };
+    }
+    let _ = child.wait();
+}
+
+/// Kills `child`, then reaps it.
+#[cfg(not(unix))]
+fn kill_group(child: &mut Child) {
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
+/// Waits for `child` (which leads its process group) while `results` grows; stops it when it
+/// does not grow for the limit per case or `deadline` passes.
+fn supervise(
+    mut child: Child,
+    results: &Path,
+    deadline: Option<Instant>,
+    watch: &Watch,
+) -> Result<End, String> {
+    let _guard = (watch.guard)(child.id());
+    let size = || fs::metadata(results).map_or(0, |m| m.len());
+    let (mut seen, mut since) = (size(), Instant::now());
+    loop {
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            return Ok(End::Exited(status));
+        }
+        let now = Instant::now();
+        let len = size();
+        if len != seen {
+            (seen, since) = (len, now);
+        }
+        let end = if deadline.is_some_and(|d| now >= d) {
+            End::OutOfTime
+        } else if now - since >= watch.case_limit {
+            End::Stalled
+        } else {
+            std::thread::sleep(Duration::from_millis(25));
+            continue;
+        };
+        kill_group(&mut child);
+        return Ok(end);
+    }
+}
+
+/// A duration in seconds, for messages: `300 s`, `0.5 s`.
+fn seconds(d: Duration) -> String {
+    format!("{} s", d.as_secs_f64())
+}
+
+/// The replayer's own files in `out_dir` (`device.txt`, `results.txt`, `NAME.png`) left by an
+/// earlier run, removed so that none is read as this run's; one that is an input or not a
+/// regular file is refused. Nothing else in the folder is touched.
+fn clear_outputs(out_dir: &Path, names: &[String], inputs: &[PathBuf]) -> Result<(), String> {
+    let own = ["device.txt".to_string(), "results.txt".to_string()]
+        .into_iter()
+        .chain(names.iter().map(|n| format!("{n}.png")));
+    for file in own {
+        let path = out_dir.join(file);
+        if fs::symlink_metadata(&path).is_err() {
+            continue;
+        }
+        Destination::check(&path, inputs).map_err(|e| e.to_string())?;
+        // A link is removed, not the file it names.
+        fs::remove_file(&path).map_err(|e| format!("cannot remove {}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// A replayer to start: `command()` given the arguments `OUTDIR @LIST`; `label` names it.
+struct Replayer<'a> {
+    command: &'a dyn Fn() -> Command,
+    label: String,
+    /// Variables set where the caller's environment does not set them.
+    env: &'a [(&'a str, &'a str)],
+}
+
+/// Runs `replayer` in `calls_dir` until every case in `names` has a result, writing into
+/// `out_dir` (its own files of an earlier run removed first) and its output into `log`
+/// (replaced when the run ends). A case the replayer stopped in, or made no progress in for the
+/// limit per case, fails with that said, and the replayer is started again on the cases after
+/// it; after three starts in a row that replay nothing, or when the whole replay's limit is
+/// reached, every case left fails.
 fn run_replayer(
-    cmd: &str,
-    env: &[(&str, &str)],
+    replayer: &Replayer,
     calls_dir: &Path,
     out_dir: &Path,
     names: &[String],
     log: &Path,
+    inputs: &[PathBuf],
+    watch: &Watch,
 ) -> Result<Captures, String> {
-    fs::create_dir_all(out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
+    fs::create_dir_all(out_dir).map_err(|e| {
+        format!(
+            "cannot create the replayer's output folder {}: {e}",
+            out_dir.display()
+        )
+    })?;
+    clear_outputs(out_dir, names, inputs)?;
+    let log_file = Destination::check(log, inputs)
+        .and_then(|d| d.create())
+        .map_err(|e| e.to_string())?;
+    let result = replay(
+        replayer,
+        calls_dir,
+        out_dir,
+        names,
+        (log, log_file.temp_path()),
+        inputs,
+        watch,
+    );
+    let kept = log_file.commit().map_err(|e| e.to_string());
+    let captures = result?;
+    kept.map(|()| captures)
+}
+
+/// [`run_replayer`]'s starts, the output going to `log.1` (to be put in place as `log.0`).
+fn replay(
+    replayer: &Replayer,
+    calls_dir: &Path,
+    out_dir: &Path,
+    names: &[String],
+    log: (&Path, &Path),
+    inputs: &[PathBuf],
+    watch: &Watch,
+) -> Result<Captures, String> {
+    let (log, log_temp) = log;
     let out_arg = std::path::absolute(out_dir).map_err(|e| e.to_string())?;
+    let results = out_dir.join("results.txt");
+    let deadline = Instant::now().checked_add(watch.total_limit);
     let mut stopped: Vec<(String, String)> = Vec::new();
     let mut pending: Vec<String> = names.to_vec();
     let (mut stalls, mut attempt) = (0, 0);
@@ -282,60 +481,81 @@ fn run_replayer(
         attempt += 1;
         let list = calls_dir.join(format!("list-{attempt}.txt"));
         let text: String = pending.iter().map(|n| format!("{n}.calls\n")).collect();
-        fs::write(&list, text).map_err(|e| format!("{}: {e}", list.display()))?;
-        let log_file = fs::OpenOptions::new()
-            .create(true)
+        Destination::check(&list, inputs)
+            .and_then(|d| d.write_bytes(text.as_bytes()))
+            .map_err(|e| e.to_string())?;
+        let log_out = fs::OpenOptions::new()
             .append(true)
-            .open(log)
+            .open(log_temp)
             .map_err(|e| format!("{}: {e}", log.display()))?;
-        let mut command = Command::new("sh");
+        let mut command = (replayer.command)();
         command
-            .arg("-c")
-            .arg(format!("{cmd} \"$@\""))
-            .arg("replayer")
             .arg(&out_arg)
             .arg(format!("@list-{attempt}.txt"))
             .current_dir(calls_dir)
             .stdin(Stdio::null())
             // A file, never a pipe: Wine's helper processes hold a pipe open for seconds.
-            .stdout(log_file.try_clone().map_err(|e| e.to_string())?)
-            .stderr(log_file);
-        for (k, v) in env {
+            .stdout(log_out.try_clone().map_err(|e| e.to_string())?)
+            .stderr(log_out);
+        #[cfg(unix)]
+        std::os::unix::process::CommandExt::process_group(&mut command, 0);
+        for (k, v) in replayer.env {
             if std::env::var_os(k).is_none() {
                 command.env(k, v);
             }
         }
-        let status = command
-            .status()
-            .map_err(|e| format!("cannot run `{cmd}`: {e}"))?;
+        let child = command
+            .spawn()
+            .map_err(|e| format!("cannot run `{}`: {e}", replayer.label))?;
+        let end = supervise(child, &results, deadline, watch)?;
+        let how = match &end {
+            End::Exited(status) => format!("exited with {status}"),
+            End::Stalled => format!(
+                "wrote no result for {} (--case-timeout) and was stopped",
+                seconds(watch.case_limit)
+            ),
+            End::OutOfTime => format!(
+                "ran out of the replay's time limit of {} (--timeout) and was stopped",
+                seconds(watch.total_limit)
+            ),
+        };
         let mut captures = read_captures(out_dir).map_err(|e| {
             format!(
-                "the replayer ({cmd}) exited with {status} and wrote no device description: {e}; \
-                 its output is in {}",
+                "the replayer ({}) {how} and wrote no device description: {e}; its output is in \
+                 {}",
+                replayer.label,
                 log.display()
             )
         })?;
         let before = pending.len();
         pending.retain(|n| !captures.outcomes.contains_key(n));
-        if pending.is_empty() {
-            for (name, why) in stopped {
-                captures.outcomes.insert(name, Outcome::Failed(why));
+        if !pending.is_empty() {
+            if pending.len() == before {
+                stalls += 1;
+            } else {
+                stalls = 0;
             }
-            return Ok(captures);
-        }
-        if pending.len() == before {
-            stalls += 1;
-        } else {
-            stalls = 0;
-        }
-        let why = format!(
-            "the replayer stopped during this case ({status}); its output is in {}",
-            log.display()
-        );
-        if stalls >= 3 {
-            stopped.extend(pending.drain(..).map(|n| (n, why.clone())));
-        } else {
-            stopped.push((pending.remove(0), why));
+            let why = match &end {
+                End::Exited(status) => format!(
+                    "the replayer stopped during this case ({status}); its output is in {}",
+                    log.display()
+                ),
+                End::Stalled => format!(
+                    "no result for {} (--case-timeout); the replayer was stopped; its output is \
+                     in {}",
+                    seconds(watch.case_limit),
+                    log.display()
+                ),
+                End::OutOfTime => format!(
+                    "not replayed: the replay ran out of its time limit of {} (--timeout)",
+                    seconds(watch.total_limit)
+                ),
+            };
+            if stalls >= 3 || matches!(end, End::OutOfTime) {
+                stopped.extend(pending.drain(..).map(|n| (n, why.clone())));
+            } else {
+                stopped.push((pending.remove(0), why));
+            }
         }
         if pending.is_empty() {
             for (name, why) in stopped {
@@ -347,22 +567,34 @@ fn run_replayer(
 }
 
 /// Runs `runner` on the streams `NAME.calls` of `calls_dir` (one per name); a run's own files
-/// (the replayer's output folder `device/`, its log `replayer.log`) go in `work`.
+/// (the replayer's output folder `device/`, its log `replayer.log`) go in `work`, where nothing
+/// else is touched and none of `inputs` is written or removed. [`Runner::Captures`] only reads.
 pub fn run(
     runner: &Runner,
     calls_dir: &Path,
     names: &[String],
     work: &Path,
+    inputs: &[PathBuf],
+    watch: &Watch,
 ) -> Result<Captures, String> {
+    runner.check()?;
     let out_dir = work.join("device");
     let log = work.join("replayer.log");
-    if out_dir.exists() {
-        fs::remove_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
-    }
-    let _ = fs::remove_file(&log);
     match runner {
         Runner::Captures(dir) => read_captures(dir),
-        Runner::Command(cmd) => run_replayer(cmd, &[], calls_dir, &out_dir, names, &log),
+        Runner::Command(cmd) => {
+            let command = || {
+                let mut c = Command::new("sh");
+                c.arg("-c").arg(format!("{cmd} \"$@\"")).arg("replayer");
+                c
+            };
+            let replayer = Replayer {
+                command: &command,
+                label: cmd.clone(),
+                env: &[],
+            };
+            run_replayer(&replayer, calls_dir, &out_dir, names, &log, inputs, watch)
+        }
         Runner::Wine(exe) => {
             let exe = match exe {
                 Some(exe) => exe.clone(),
@@ -370,7 +602,10 @@ pub fn run(
             };
             let exe = std::path::absolute(&exe).map_err(|e| e.to_string())?;
             if !exe.is_file() {
-                return Err(format!("the replayer {} does not exist", exe.display()));
+                return Err(format!(
+                    "the replayer {} is not an existing file",
+                    exe.display()
+                ));
             }
             for tool in ["xvfb-run", "wine"] {
                 let found = Command::new("sh")
@@ -386,14 +621,19 @@ pub fn run(
                     ));
                 }
             }
-            run_replayer(
-                &wine_command(&exe),
-                WINE_ENVIRONMENT,
-                calls_dir,
-                &out_dir,
-                names,
-                &log,
-            )
+            let command = || {
+                let mut c = Command::new("xvfb-run");
+                c.args(["-a", "sh", "-c", WINE_SCRIPT, "wine"]).arg(&exe);
+                c
+            };
+            let replayer = Replayer {
+                command: &command,
+                label: format!("wine {}", exe.display()),
+                env: WINE_ENVIRONMENT,
+            };
+            let mut inputs = inputs.to_vec();
+            inputs.push(exe.clone());
+            run_replayer(&replayer, calls_dir, &out_dir, names, &log, &inputs, watch)
         }
     }
 }

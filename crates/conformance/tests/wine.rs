@@ -6,7 +6,7 @@ use std::fs;
 use std::path::Path;
 
 use pointillist_conformance::calls::{Call, CallWriter, Header};
-use pointillist_conformance::runner::{self, Outcome, Runner};
+use pointillist_conformance::runner::{self, Outcome, Runner, Watch};
 
 fn stream(calls: &[Call], end: bool) -> Vec<u8> {
     let mut w = CallWriter::new(Header {
@@ -81,7 +81,15 @@ fn the_replayer_names_failing_calls_and_goes_on() {
     for (name, bytes) in &cases {
         fs::write(calls.join(format!("{name}.calls")), bytes).unwrap();
     }
-    let captures = runner::run(&Runner::Wine(Some(exe)), &calls, &names, &dir).unwrap();
+    let captures = runner::run(
+        &Runner::Wine(Some(exe)),
+        &calls,
+        &names,
+        &dir,
+        &[],
+        &Watch::default(),
+    )
+    .unwrap();
     let log = fs::read_to_string(dir.join("replayer.log")).unwrap_or_default();
     assert!(
         captures.device.max_point_size > 0.0,

@@ -85,8 +85,8 @@ fn file_id(path: &Path) -> Option<PathBuf> {
     fs::canonicalize(path).ok()
 }
 
-/// What kind of file a metadata describes, for refusals ("a directory").
-fn kind(m: &fs::Metadata) -> &'static str {
+/// What kind of file a metadata describes, for refusals ("a directory", "a named pipe").
+pub fn file_kind(m: &fs::Metadata) -> &'static str {
     let t = m.file_type();
     #[cfg(unix)]
     {
@@ -140,7 +140,7 @@ impl Destination {
             Ok(m) => {
                 return Err(refuse(format!(
                     "it is {}; outputs are only written to regular files",
-                    kind(&m)
+                    file_kind(&m)
                 )));
             }
             Err(e) if e.kind() == io::ErrorKind::NotFound => None,
