@@ -17,7 +17,7 @@ fn stream(calls: &[Call], end: bool) -> Vec<u8> {
     for c in calls {
         w.call(c);
     }
-    let mut bytes = w.finish();
+    let mut bytes = w.finish().unwrap();
     if !end {
         bytes.truncate(bytes.len() - 8);
     }
