@@ -426,8 +426,9 @@ fn judge(
             )
         });
         if let Err(e) = written {
+            // The error names the file.
             r.status = Status::Error;
-            r.message = format!("cannot write {}: {e}", path.display());
+            r.message = e.to_string();
             return r;
         }
     }
