@@ -1,14 +1,17 @@
 //! `pointillist export-calls` and `pointillist conform`: the conformance kit
 //! (`pointillist-conformance`, docs/CONFORMANCE.md) on the command line.
 
+use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Duration;
 
 use pointillist_conformance::runner::{Runner, Watch};
 use pointillist_conformance::{Options, conform_with, export, find_cases};
+use pointillist_image::output::Destination;
 
 use crate::interrupt::ChildGuard;
+use crate::report::printable;
 use crate::{ConformArgs, ExportCallsArgs};
 
 /// Exit status of `conform` when a case ends otherwise than expected.
@@ -16,42 +19,45 @@ const UNEXPECTED: u8 = 1;
 /// Exit status of `conform` when the kit itself cannot run.
 const KIT_FAILED: u8 = 2;
 
-/// Writes `bytes` to `path` atomically (an existing file is replaced only by a whole one).
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    pointillist_image::write_file_atomic(path, bytes).map_err(|e| e.to_string())
-}
-
-/// Exports one scene's calls.
-fn export_one(scene: &Path, frame: Option<u32>) -> Result<Vec<u8>, String> {
-    let scene = pointillist_scene::load(scene).map_err(|e| e.to_string())?;
-    Ok(export::export(&scene, scene.caps, frame)?.stream)
-}
-
 /// Runs `pointillist export-calls`: one scene to the file OUT, or scene files and folders to
-/// the folder OUT (`NAME.calls` each and `list.txt`, the replayer's argument file).
+/// the folder OUT (`NAME.calls` each and `list.txt`, the replayer's argument file). Streams are
+/// written to disk as they are made, and put in place only when all are whole and none of them
+/// is a file a scene reads.
 pub fn run_export(args: &ExportCallsArgs) -> Result<(), String> {
+    let out = &args.output;
+    let shown = |p: &Path| printable(&p.display().to_string());
     if let [scene] = args.scenes.as_slice()
         && !scene.is_dir()
     {
-        let bytes = export_one(scene, args.frame)?;
-        write_atomic(&args.output, &bytes)?;
-        crate::report::outln!("wrote {} ({} bytes)", args.output.display(), bytes.len());
+        let scene = pointillist_scene::load(scene).map_err(|e| e.to_string())?;
+        let (ex, file) = export::export_pending(&scene, args.frame, out)?;
+        export::commit_outside(vec![file], &scene.inputs)?;
+        crate::report::outln!("wrote {} ({} bytes)", shown(out), ex.bytes);
         return Ok(());
     }
     let cases = find_cases(&args.scenes)?;
-    std::fs::create_dir_all(&args.output)
-        .map_err(|e| format!("cannot create {}: {e}", args.output.display()))?;
-    let mut list = String::new();
+    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    let (mut files, mut inputs, mut list) = (Vec::new(), Vec::new(), String::new());
     for case in &cases {
-        let bytes = export_one(&case.scene, args.frame)?;
-        write_atomic(&args.output.join(format!("{}.calls", case.name)), &bytes)?;
+        let scene = pointillist_scene::load(&case.scene).map_err(|e| e.to_string())?;
+        inputs.extend_from_slice(&scene.inputs);
+        let path = out.join(format!("{}.calls", case.name));
+        files.push(export::export_pending(&scene, args.frame, &path)?.1);
         list.push_str(&format!("{}.calls\n", case.name));
     }
-    write_atomic(&args.output.join("list.txt"), list.as_bytes())?;
+    let list_path = out.join("list.txt");
+    let mut list_file = Destination::check(&list_path, &inputs)
+        .and_then(|d| d.create())
+        .map_err(|e| e.to_string())?;
+    list_file
+        .write_all(list.as_bytes())
+        .map_err(|e| format!("{}: {e}", list_path.display()))?;
+    files.push(list_file);
+    export::commit_outside(files, &inputs)?;
     crate::report::outln!(
         "wrote {} call streams and list.txt to {}",
         cases.len(),
-        args.output.display()
+        shown(out)
     );
     Ok(())
 }
@@ -97,15 +103,15 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
         Ok(summary) => summary,
         Err(e) => {
             crate::interrupt::wait_if_ending();
-            crate::report::errln!("error: {}", e.lines().next().unwrap_or(""));
+            crate::report::error(&e);
             return ExitCode::from(KIT_FAILED);
         }
     };
     for w in &summary.warnings {
-        crate::report::errln!("warning: {w}");
+        crate::report::warning(w);
     }
     for (case, why) in &summary.unexpected {
-        crate::report::errln!("{case}: {why}");
+        crate::report::errln!("{}", printable(&format!("{case}: {why}")));
     }
     let [m, o, d, e] = summary.counts;
     let shown: Vec<String> = summary
@@ -121,7 +127,7 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
          {} unexpected; report: {}",
         summary.cases,
         summary.unexpected.len(),
-        args.report.join("index.html").display()
+        printable(&args.report.join("index.html").display().to_string())
     );
     if summary.unexpected.is_empty() {
         ExitCode::SUCCESS

@@ -186,7 +186,8 @@ draws it.
 
 With one scene file, OUT is the stream. With a folder or several scenes, OUT is a folder that
 receives NAME.calls for each scene and list.txt, the replayer's argument file
-(`replayer OUTDIR @list.txt`).";
+(`replayer OUTDIR @list.txt`). Streams are written under temporary names and put in place when
+all are whole; OUT is never the scene or a file a scene reads.";
 
 /// Examples shown at the end of `pointillist export-calls --help`.
 const EXPORT_EXAMPLES: &str = "\

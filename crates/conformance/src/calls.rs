@@ -8,6 +8,7 @@
 //! [`Op::End`] with an empty payload and nothing may follow it.
 
 use std::fmt;
+use std::io::{self, Write};
 
 use pointillist_core::texture::Level;
 
@@ -238,10 +239,17 @@ pub struct Header {
     pub flags: u32,
 }
 
-/// Writes a stream record by record; [`CallWriter::finish`] appends the end record.
+/// Writes a stream record by record to `W` (a file, or memory by default) as it goes, so that
+/// no copy of a scene's texels and vertices is held; [`CallWriter::finish`] appends the end
+/// record and gives back the output, or the first write error (the writes after it are skipped).
 #[derive(Debug)]
-pub struct CallWriter {
-    bytes: Vec<u8>,
+pub struct CallWriter<W: Write = Vec<u8>> {
+    out: W,
+    /// A record's fixed fields, reused.
+    scratch: Vec<u8>,
+    /// Bytes written.
+    bytes: u64,
+    error: Option<io::Error>,
 }
 
 fn put_f32s(out: &mut Vec<u8>, v: &[f32]) {
@@ -257,23 +265,68 @@ fn put_u32s(out: &mut Vec<u8>, v: &[u32]) {
 }
 
 impl CallWriter {
-    /// A stream for a target of `header.width` x `header.height`.
+    /// A stream in memory for a target of `header.width` x `header.height`.
     pub fn new(header: Header) -> CallWriter {
-        let mut bytes = MAGIC.to_vec();
+        CallWriter::to(Vec::new(), header)
+    }
+}
+
+impl<W: Write> CallWriter<W> {
+    /// A stream written to `out` for a target of `header.width` x `header.height`.
+    pub fn to(out: W, header: Header) -> CallWriter<W> {
+        let mut w = CallWriter {
+            out,
+            scratch: MAGIC.to_vec(),
+            bytes: 0,
+            error: None,
+        };
         put_u32s(
-            &mut bytes,
+            &mut w.scratch,
             &[VERSION, header.width, header.height, header.flags],
         );
-        CallWriter { bytes }
+        w.flush_scratch();
+        w
     }
 
-    /// Appends a record whose payload `body` writes.
+    /// Writes `bytes` unless a write failed before.
+    fn write(&mut self, bytes: &[u8]) {
+        if self.error.is_none() {
+            match self.out.write_all(bytes) {
+                Ok(()) => self.bytes += bytes.len() as u64,
+                Err(e) => self.error = Some(e),
+            }
+        }
+    }
+
+    /// Writes and empties the scratch buffer.
+    fn flush_scratch(&mut self) {
+        let scratch = std::mem::take(&mut self.scratch);
+        self.write(&scratch);
+        self.scratch = scratch;
+        self.scratch.clear();
+    }
+
+    /// Starts a record of `op` whose payload is `len` bytes: its header goes to the scratch
+    /// buffer. A payload the format cannot state (over 4 GiB) fails the stream.
+    fn start(&mut self, op: Op, len: u64) {
+        let len = u32::try_from(len).unwrap_or_else(|_| {
+            self.error.get_or_insert_with(|| {
+                io::Error::other(format!(
+                    "a {op:?} record of {len} bytes exceeds the format's 4 GiB"
+                ))
+            });
+            0
+        });
+        put_u32s(&mut self.scratch, &[op as u32, len]);
+    }
+
+    /// Appends a record of fixed size whose payload `body` writes.
     fn record(&mut self, op: Op, body: impl FnOnce(&mut Vec<u8>)) {
-        let at = self.bytes.len();
-        put_u32s(&mut self.bytes, &[op as u32, 0]);
-        body(&mut self.bytes);
-        let len = (self.bytes.len() - at - 8) as u32;
-        self.bytes[at + 4..at + 8].copy_from_slice(&len.to_le_bytes());
+        put_u32s(&mut self.scratch, &[op as u32, 0]);
+        body(&mut self.scratch);
+        let len = (self.scratch.len() - 8) as u32;
+        self.scratch[4..8].copy_from_slice(&len.to_le_bytes());
+        self.flush_scratch();
     }
 
     /// Appends `call`.
@@ -346,30 +399,45 @@ impl CallWriter {
         }
     }
 
-    /// Appends a CreateTexture record (without copying the texels first).
+    /// Appends a CreateTexture record, its texels written as they lie.
     pub fn create_texture(&mut self, id: u32, levels: &[Level]) {
-        self.record(Op::CreateTexture, |o| {
-            put_u32s(o, &[id, levels.len() as u32]);
-            for l in levels {
-                put_u32s(o, &[l.width, l.height]);
-                put_u32s(o, &l.texels);
+        let texels: u64 = levels.iter().map(|l| 8 + l.texels.len() as u64 * 4).sum();
+        self.start(Op::CreateTexture, 8 + texels);
+        put_u32s(&mut self.scratch, &[id, levels.len() as u32]);
+        for l in levels {
+            put_u32s(&mut self.scratch, &[l.width, l.height]);
+            for chunk in l.texels.chunks(4096) {
+                put_u32s(&mut self.scratch, chunk);
+                self.flush_scratch();
             }
-        });
+        }
+        self.flush_scratch();
     }
 
-    /// Appends a DrawPoints record (without copying the vertices first).
+    /// Appends a DrawPoints record, its vertices written as they lie.
     pub fn draw_points(&mut self, fvf: u32, stride: u32, vertices: &[u8]) {
-        let count = vertices.len() as u32 / stride.max(1);
-        self.record(Op::DrawPoints, |o| {
-            put_u32s(o, &[fvf, stride, count]);
-            o.extend_from_slice(vertices);
-        });
+        let count = vertices.len() / stride.max(1) as usize;
+        self.start(Op::DrawPoints, 12 + vertices.len() as u64);
+        put_u32s(&mut self.scratch, &[fvf, stride, count as u32]);
+        self.flush_scratch();
+        self.write(vertices);
     }
 
-    /// The stream with its end record.
-    pub fn finish(mut self) -> Vec<u8> {
+    /// Appends the end record and flushes: the stream's length in bytes, or the first error.
+    /// Nothing may be appended after it.
+    pub fn end(&mut self) -> io::Result<u64> {
         self.record(Op::End, |_| {});
-        self.bytes
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        self.out.flush()?;
+        Ok(self.bytes)
+    }
+
+    /// [`CallWriter::end`], then the output.
+    pub fn finish(mut self) -> io::Result<W> {
+        self.end()?;
+        Ok(self.out)
     }
 }
 
@@ -687,7 +755,7 @@ mod tests {
         for c in calls {
             w.call(c);
         }
-        w.finish()
+        w.finish().unwrap()
     }
 
     /// Compares calls bit for bit (a NaN plane must come back as the same NaN).

@@ -37,7 +37,7 @@ pub fn compare(ours: &Image, theirs: &Image, tolerance: Tolerance) -> Comparison
     let mut pixels_differing = 0;
     let mut max_channel_difference = 0;
     let mut first = None;
-    let mut marks = Vec::with_capacity(w as usize * h as usize);
+    let mut marks = Vec::with_capacity(w as usize * h as usize * 4);
     for (i, (a, b)) in ours
         .rgba
         .chunks_exact(4)
@@ -58,15 +58,22 @@ pub fn compare(ours: &Image, theirs: &Image, tolerance: Tolerance) -> Comparison
             }
             [128 + d / 2, 0, 0, 255]
         };
-        marks.push(mark);
+        marks.extend_from_slice(&mark);
     }
     let (dw, dh) = (w * scale, h * scale);
-    let mut rgba = Vec::with_capacity(dw as usize * dh as usize * 4);
-    for y in 0..dh {
-        for x in 0..dw {
-            rgba.extend_from_slice(&marks[(y / scale * w + x / scale) as usize]);
+    // Only small images are magnified; a large one is shown as it is, without a copy.
+    let rgba = if scale == 1 {
+        marks
+    } else {
+        let mut rgba = Vec::with_capacity(dw as usize * dh as usize * 4);
+        for y in 0..dh {
+            for x in 0..dw {
+                let at = (y / scale * w + x / scale) as usize * 4;
+                rgba.extend_from_slice(&marks[at..at + 4]);
+            }
         }
-    }
+        rgba
+    };
     Comparison {
         pixels_differing,
         max_channel_difference,

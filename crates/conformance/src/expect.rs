@@ -67,11 +67,10 @@ pub struct Expectations {
 }
 
 impl Expectations {
-    /// Reads and checks an expectations file; errors name the file and line.
+    /// Reads (at most [`crate::MAX_TEXT_BYTES`]) and checks an expectations file; errors name the
+    /// file and line.
     pub fn load(path: &Path) -> Result<Expectations, String> {
-        let mut text = String::new();
-        std::io::Read::read_to_string(&mut crate::runner::open_regular(path)?, &mut text)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = crate::read_text(path)?;
         Self::parse(&text, path)
     }
 
@@ -90,6 +89,7 @@ impl Expectations {
                 .parse::<BehaviourSetting>()
                 .map_err(|e| format!("{}: [behaviour] {name}: {e}", path.display()))?;
         }
+        let mut seen = std::collections::HashSet::new();
         for (i, c) in expectations.cases.iter().enumerate() {
             let fail = |m: &str| Err(format!("{}: case[{i}] ({}): {m}", path.display(), c.case));
             if c.status == Status::Match {
@@ -106,7 +106,7 @@ impl Expectations {
             if c.pixels_differing.is_some() && c.status != Status::Differs {
                 return fail("pixels_differing is only for status = \"differs\"");
             }
-            if expectations.cases[..i].iter().any(|o| o.case == c.case) {
+            if !seen.insert(c.case.as_str()) {
                 return fail("listed twice");
             }
         }
@@ -230,6 +230,28 @@ implementation = "y"
                 .unwrap_err()
                 .contains("no departure")
         );
+    }
+
+    /// Duplicates are found in one pass: a file near the size limit (100,000 cases) is read as
+    /// fast as it parses, not in quadratic time.
+    #[test]
+    fn many_cases_are_checked_in_one_pass() {
+        let text: String = (0..100_000)
+            .map(|i| {
+                format!(
+                    "[[case]]\ncase = \"c{i}\"\nstatus = \"error\"\nd3d9 = \"x\"\n\
+                     implementation = \"y\"\n"
+                )
+            })
+            .collect();
+        let e = Expectations::parse(&text, Path::new("big.toml")).unwrap();
+        assert_eq!(e.cases.len(), 100_000);
+        let twice = format!(
+            "{text}[[case]]\ncase = \"c7\"\nstatus = \"error\"\nd3d9 = \"x\"\n\
+                             implementation = \"y\"\n"
+        );
+        let e = Expectations::parse(&twice, Path::new("big.toml")).unwrap_err();
+        assert!(e.contains("case[100000] (c7): listed twice"), "{e}");
     }
 
     #[test]

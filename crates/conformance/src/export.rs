@@ -8,6 +8,8 @@
 //! the scene's calls, then each emitter's draw preceded by the state changes it makes, as a
 //! device sees them at the draw.
 
+use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pointillist_core::DrawSetup;
@@ -20,6 +22,7 @@ use pointillist_core::tolerance::{Tolerance, device_tolerance};
 use pointillist_core::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, TransformType, Viewport,
 };
+use pointillist_image::output::{Destination, PendingFile, commit_all};
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::{Command, Scene};
 
@@ -28,11 +31,11 @@ use crate::calls::{
     FLAG_SOFTWARE_VERTEX_PROCESSING, Header, NO_TEXTURE,
 };
 
-/// A scene exported for one device.
+/// What a scene exported for one device tells.
 #[derive(Clone, Debug)]
 pub struct Exported {
-    /// The call stream.
-    pub stream: Vec<u8>,
+    /// The bytes of the call stream written.
+    pub bytes: u64,
     /// How close the device's image must come to pointillist's (SPEC 7): the largest tolerance
     /// of the draws after the last clear.
     pub tolerance: Tolerance,
@@ -83,8 +86,8 @@ fn viewport(vp: &Viewport) -> Call {
 
 /// The backend the export draws on: it writes the stream's particle part from the states a
 /// draw sees, and tracks the tolerance of every draw.
-struct Recorder {
-    writer: CallWriter,
+struct Recorder<'a> {
+    writer: CallWriter<&'a mut dyn Write>,
     /// Textures given an id, kept alive so that their addresses stay unique.
     textures: Vec<Arc<Texture>>,
     /// While the particle part is written: the state the stream has set so far.
@@ -93,19 +96,18 @@ struct Recorder {
     draws: usize,
 }
 
-impl Recorder {
-    /// The stream written so far, ended, and what the draws tell; the recorder is left empty.
-    fn finish(&mut self) -> Exported {
-        let empty = CallWriter::new(Header {
-            width: 0,
-            height: 0,
-            flags: 0,
-        });
-        Exported {
-            stream: std::mem::replace(&mut self.writer, empty).finish(),
+impl Recorder<'_> {
+    /// Ends the stream; what the draws tell, or the error that stopped the writes.
+    fn finish(&mut self, out_name: &Path) -> Result<Exported, String> {
+        let bytes = self
+            .writer
+            .end()
+            .map_err(|e| format!("{}: cannot write the call stream: {e}", out_name.display()))?;
+        Ok(Exported {
+            bytes,
             tolerance: self.tolerance,
             draws: self.draws,
-        }
+        })
     }
 
     /// The id of `texture`, writing its CreateTexture record the first time.
@@ -236,7 +238,7 @@ impl Recorder {
     }
 }
 
-impl Backend for Recorder {
+impl Backend for Recorder<'_> {
     fn create_target(&mut self, _: u32, _: u32, _: u32, _: f32) -> Result<(), DeviceError> {
         Ok(())
     }
@@ -371,19 +373,30 @@ fn write_steps(rec: &mut Recorder, scene: &Scene, view: Option<Mat4>) {
 }
 
 /// Exports `scene` for a device with `caps` (the vertex processing flag of the header comes
-/// from them); `frame` as [`frame_of`] reads it. Errors are one line naming the scene.
-pub fn export(scene: &Scene, caps: Caps, frame: Option<u32>) -> Result<Exported, String> {
+/// from them) to `out`, written as it goes (no copy of the scene's texels and vertices is held);
+/// `frame` as [`frame_of`] reads it. Errors are one line naming the scene, or `out_name` when
+/// `out` fails.
+pub fn export(
+    scene: &Scene,
+    caps: Caps,
+    frame: Option<u32>,
+    out: &mut dyn Write,
+    out_name: &Path,
+) -> Result<Exported, String> {
     let frame = frame_of(scene, frame)?;
     let flags = match caps.vertex_processing {
         VertexProcessing::Hardware => 0,
         VertexProcessing::Software => FLAG_SOFTWARE_VERTEX_PROCESSING,
     };
     let recorder = Recorder {
-        writer: CallWriter::new(Header {
-            width: scene.target.width,
-            height: scene.target.height,
-            flags,
-        }),
+        writer: CallWriter::to(
+            out,
+            Header {
+                width: scene.target.width,
+                height: scene.target.height,
+                flags,
+            },
+        ),
         textures: Vec::new(),
         written: None,
         tolerance: Tolerance::Exact,
@@ -420,5 +433,30 @@ pub fn export(scene: &Scene, caps: Caps, frame: Option<u32>) -> Result<Exported,
                 .map_err(|e| format!("{name}: cannot draw the particles: {e}"))?;
         }
     }
-    Ok(device.backend_mut().finish())
+    device.backend_mut().finish(out_name)
+}
+
+/// Exports `scene` with its own caps into a temporary file for `path`, which must not be one of
+/// the files the scene reads; the file is closed and put in place by [`commit_outside`].
+pub fn export_pending(
+    scene: &Scene,
+    frame: Option<u32>,
+    path: &Path,
+) -> Result<(Exported, PendingFile), String> {
+    let mut file = Destination::check(path, &scene.inputs)
+        .and_then(|d| d.create())
+        .map_err(|e| e.to_string())?;
+    let exported = export(scene, scene.caps, frame, &mut file, path)?;
+    // Closed until it is put in place, so that many streams hold no file descriptors.
+    file.close().map_err(|e| e.to_string())?;
+    Ok((exported, file))
+}
+
+/// Puts `files` in place, all or none, once none of them is one of `inputs` (the files of every
+/// scene exported with them): a stream never replaces a file another scene reads.
+pub fn commit_outside(files: Vec<PendingFile>, inputs: &[PathBuf]) -> Result<(), String> {
+    for f in &files {
+        Destination::check(f.destination().path(), inputs).map_err(|e| e.to_string())?;
+    }
+    commit_all(files).map_err(|e| e.to_string())
 }

@@ -23,14 +23,17 @@ pub mod runner;
 
 use std::collections::BTreeMap;
 use std::fs;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use pointillist_core::Behaviours;
 use pointillist_core::behaviour::{BehaviourSet, BehaviourSetting};
 use pointillist_core::caps::Caps;
 use pointillist_core::color::rgba8_to_argb;
+use pointillist_core::tolerance::Tolerance;
 use pointillist_core::{Device, DeviceDesc, RenderTarget};
 use pointillist_cpu::CpuBackend;
+use pointillist_image::output::{Destination, PendingFile};
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::Scene;
 
@@ -38,6 +41,45 @@ use crate::expect::{Expectations, Status};
 use crate::report::{CaseImages, CaseReport};
 use crate::runner::{DeviceInfo, Image, Outcome, Runner, Watch};
 use pointillist_image::output::Destination;
+
+/// The largest text file the kit reads (`device.txt`, `results.txt`, an expectations file),
+/// in bytes: checked from the file's length before it is read.
+pub const MAX_TEXT_BYTES: u64 = 16 << 20;
+
+/// Reads the text file `path`: a regular file (never a device or a pipe) of at most
+/// [`MAX_TEXT_BYTES`], UTF-8. Errors name the file.
+pub(crate) fn read_text(path: &Path) -> Result<String, String> {
+    let fail = |why: &dyn std::fmt::Display| format!("{}: {why}", path.display());
+    let too_big = |len: u64| {
+        fail(&format_args!(
+            "it holds {len} bytes, above the limit of {MAX_TEXT_BYTES} bytes (16 MiB) for a text \
+             file"
+        ))
+    };
+    // Checked before opening: opening a named pipe waits for a writer.
+    let meta = fs::metadata(path).map_err(|e| fail(&e))?;
+    if !meta.is_file() {
+        return Err(fail(&"it is not a regular file"));
+    }
+    if meta.len() > MAX_TEXT_BYTES {
+        return Err(too_big(meta.len()));
+    }
+    let file = fs::File::open(path).map_err(|e| fail(&e))?;
+    // The file may grow while it is read: never read more than the limit.
+    let mut bytes = Vec::new();
+    file.take(MAX_TEXT_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| fail(&e))?;
+    if bytes.len() as u64 > MAX_TEXT_BYTES {
+        return Err(too_big(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        fail(&format_args!(
+            "not UTF-8 text (byte {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })
+}
 
 /// One case: a scene file and the name its stream, images and expectations go by.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -88,8 +130,9 @@ pub fn find_cases(paths: &[PathBuf]) -> Result<Vec<Case>, String> {
             return Err(format!("{}: no such scene file or folder", path.display()));
         }
     }
-    for (i, c) in cases.iter().enumerate() {
-        if let Some(o) = cases[..i].iter().find(|o| o.name == c.name) {
+    let mut seen = std::collections::HashMap::new();
+    for c in &cases {
+        if let Some(o) = seen.insert(c.name.as_str(), c) {
             return Err(format!(
                 "{} and {} would both be case `{}`; give them in separate runs",
                 o.scene.display(),
@@ -149,7 +192,7 @@ fn render_target(
     }
     let read = device.behaviours_read();
     device
-        .read_target()
+        .into_target()
         .map(|t| (t, read))
         .map_err(|e| format!("{name}: cannot read the render target: {e}"))
 }
@@ -185,32 +228,33 @@ pub struct Summary {
     pub warnings: Vec<String>,
 }
 
-/// A case exported, before the device's outcome is known.
+/// A case exported, before the device's outcome is known. The scene is not kept (it is loaded
+/// again when judged), so that the run holds one case's scene at a time.
 struct Prepared {
     case: Case,
-    /// The scene and its stream's tolerance, or why the case cannot run.
-    scene: Result<(Scene, pointillist_core::tolerance::Tolerance), String>,
+    /// The stream's tolerance, or why the case cannot run.
+    tolerance: Result<Tolerance, String>,
 }
 
-/// Exports a loaded case into `calls_dir`; `Err` only when its stream cannot be written (the
-/// report folder is unusable), never over one of `inputs`.
+/// Loads and exports `case` into a pending `CALLS_DIR/NAME.calls`, adding the files the scene
+/// reads to `inputs`. The stream, if any, is put in place by [`export::commit_outside`].
 fn prepare(
     case: Case,
-    scene: Result<Scene, String>,
     calls_dir: &Path,
-    inputs: &[PathBuf],
-) -> Result<Prepared, String> {
-    let scene = match scene.and_then(|s| export::export(&s, s.caps, None).map(|ex| (s, ex))) {
-        Ok((scene, ex)) => {
-            let file = calls_dir.join(format!("{}.calls", case.name));
-            Destination::check(&file, inputs)
-                .and_then(|d| d.write_bytes(&ex.stream))
-                .map_err(|e| e.to_string())?;
-            Ok((scene, ex.tolerance))
-        }
-        Err(e) => Err(e),
+    inputs: &mut Vec<PathBuf>,
+) -> (Prepared, Option<PendingFile>) {
+    let path = calls_dir.join(format!("{}.calls", case.name));
+    let exported = pointillist_scene::load(&case.scene)
+        .map_err(|e| e.to_string())
+        .and_then(|scene| {
+            inputs.extend_from_slice(&scene.inputs);
+            export::export_pending(&scene, None, &path)
+        });
+    let (tolerance, file) = match exported {
+        Ok((ex, file)) => (Ok(ex.tolerance), Some(file)),
+        Err(e) => (Err(e), None),
     };
-    Ok(Prepared { case, scene })
+    (Prepared { case, tolerance }, file)
 }
 
 /// The `[case]` title and rules of a scene.
@@ -222,8 +266,8 @@ fn case_meta(scene: &Scene) -> (Option<String>, Vec<String>) {
 
 /// Whether the device's image holds the D3D9 facts the case states (its `[[case.expect]]`
 /// pixels and the clear colour elsewhere), independently of pointillist. The device's depth
-/// is not read back: depth expectations are checked against pointillist's depth buffer.
-fn device_facts(scene: &Scene, theirs: &Image, ours: &RenderTarget) -> Option<Result<(), String>> {
+/// is not read back: depth expectations are checked against pointillist's `depth`.
+fn device_facts(scene: &Scene, theirs: &Image, depth: Vec<f32>) -> Option<Result<(), String>> {
     let case = scene.case.as_ref()?;
     let target = RenderTarget {
         width: theirs.width,
@@ -233,7 +277,7 @@ fn device_facts(scene: &Scene, theirs: &Image, ours: &RenderTarget) -> Option<Re
             .chunks_exact(4)
             .map(|p| rgba8_to_argb([p[0], p[1], p[2], p[3]]))
             .collect(),
-        depth: ours.depth.clone(),
+        depth,
     };
     Some(case.check(&target, scene.target.clear, &scene.file))
 }
@@ -278,8 +322,10 @@ fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
     })
 }
 
-/// Compares one case with what the device drew and writes its images (never over one of
-/// `inputs`); `settings` are the behaviours set over the scene's.
+/// Compares one case with what the device drew and writes its images, none of them over one of
+/// `inputs`; `settings` are the behaviours set over the scene's. The scene is loaded again and
+/// the device's image read here, after its size is checked against the scene's target, so that
+/// one case's images are held at a time.
 fn judge(
     p: &Prepared,
     outcome: Option<&Outcome>,
@@ -305,15 +351,22 @@ fn judge(
         matching: None,
         shown: BTreeMap::new(),
     };
-    let (scene, tolerance) = match &p.scene {
-        Ok(s) => s,
+    let tolerance = match &p.tolerance {
+        Ok(t) => *t,
         Err(e) => {
             r.message = e.clone();
             return r;
         }
     };
-    (r.title, r.rules) = case_meta(scene);
     r.tolerance = tolerance.steps();
+    let scene = match pointillist_scene::load(&p.case.scene) {
+        Ok(scene) => scene,
+        Err(e) => {
+            r.message = e.to_string();
+            return r;
+        }
+    };
+    (r.title, r.rules) = case_meta(&scene);
     let theirs = match outcome {
         None => {
             r.message = "the replayer wrote no result for this case".into();
@@ -323,18 +376,26 @@ fn judge(
             r.message = format!("on the device: {why}");
             return r;
         }
-        Some(Outcome::Drawn(image)) => image,
+        Some(Outcome::Drawn(png)) => {
+            match runner::read_capture(png, scene.target.width, scene.target.height) {
+                Ok(image) => image,
+                Err(e) => {
+                    r.message = e;
+                    return r;
+                }
+            }
+        }
     };
     let caps = device_caps(device, &scene.caps);
     let behaviours = scene.behaviours.with(settings);
-    let (ours, target, read) = match render_target(scene, caps, behaviours) {
-        Ok((t, read)) => (
+    let (ours, depth, read) = match render_target(&scene, caps, behaviours) {
+        Ok((mut t, read)) => (
             Image {
                 width: t.width,
                 height: t.height,
                 rgba: t.to_rgba8(),
             },
-            t,
+            std::mem::take(&mut t.depth),
             read,
         ),
         Err(e) => {
@@ -342,14 +403,8 @@ fn judge(
             return r;
         }
     };
-    if (theirs.width, theirs.height) != (ours.width, ours.height) {
-        r.message = format!(
-            "the device's image is {}x{}, the target {}x{}",
-            theirs.width, theirs.height, ours.width, ours.height
-        );
-        return r;
-    }
-    let cmp = compare::compare(&ours, theirs, *tolerance);
+    r.facts = device_facts(&scene, &theirs, depth);
+    let cmp = compare::compare(&ours, &theirs, tolerance);
     r.pixels_differing = cmp.pixels_differing;
     r.max_channel_difference = cmp.max_channel_difference;
     let tol = match tolerance.steps() {
@@ -374,10 +429,10 @@ fn judge(
         behaviours,
         read,
         &ours,
-        theirs,
-        *tolerance,
+        &theirs,
+        tolerance,
         r.status == Status::Match,
-        |b| render(scene, caps, b),
+        |b| render(&scene, caps, b),
     );
     if let Some((name, option)) = found.matching {
         r.status = Status::Option;
@@ -392,7 +447,6 @@ fn judge(
     if let Some(note) = caps_note(&scene.caps, &caps) {
         r.message = format!("{}; {note}", r.message);
     }
-    r.facts = device_facts(scene, theirs, &target);
     if let Some(Err(_)) = &r.facts {
         r.message = format!(
             "{}; the device breaks the case's own expectations",
@@ -401,21 +455,23 @@ fn judge(
     }
     let files = [
         (format!("img/{}.pointillist.png", r.name), &ours),
-        (format!("img/{}.device.png", r.name), theirs),
+        (format!("img/{}.device.png", r.name), &theirs),
         (format!("img/{}.diff.png", r.name), &cmp.diff),
     ];
     for (file, image) in &files {
         let path = dir.join(file);
-        if let Err(e) = Destination::check(&path, inputs).and_then(|d| {
+        let written = Destination::check(&path, inputs).and_then(|d| {
             d.write_png(
                 image.width,
                 image.height,
                 &image.rgba,
                 pointillist_image::png::Compression::Fast,
             )
-        }) {
+        });
+        if let Err(e) = written {
+            // The error names the file.
             r.status = Status::Error;
-            r.message = format!("cannot write {}: {e}", path.display());
+            r.message = e.to_string();
             return r;
         }
     }
@@ -451,33 +507,25 @@ pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
     for d in [&calls_dir, &dir.join("img")] {
         fs::create_dir_all(d).map_err(|e| format!("cannot create {}: {e}", d.display()))?;
     }
-    let loaded: Vec<(Case, Result<Scene, String>)> = cases
-        .into_iter()
-        .map(|c| {
-            let scene = pointillist_scene::load(&c.scene).map_err(|e| e.to_string());
-            (c, scene)
-        })
-        .collect();
     let mut inputs: Vec<PathBuf> = opts.expect.iter().cloned().collect();
-    for (case, scene) in &loaded {
+    let mut prepared = Vec::new();
+    let mut streams = Vec::new();
+    for case in cases {
         inputs.push(case.scene.clone());
-        if let Ok(scene) = scene {
-            inputs.extend(scene.inputs.iter().cloned());
-        }
         if let Runner::Captures(captures) = &opts.runner {
             inputs.push(captures.join(format!("{}.png", case.name)));
         }
+        let (p, stream) = prepare(case, &calls_dir, &mut inputs);
+        prepared.push(p);
+        streams.extend(stream);
     }
     if let Runner::Captures(captures) = &opts.runner {
         inputs.extend(["device.txt", "results.txt"].map(|f| captures.join(f)));
     }
-    let prepared = loaded
-        .into_iter()
-        .map(|(c, scene)| prepare(c, scene, &calls_dir, &inputs))
-        .collect::<Result<Vec<Prepared>, String>>()?;
+    export::commit_outside(streams, &inputs)?;
     let names: Vec<String> = prepared
         .iter()
-        .filter(|p| p.scene.is_ok())
+        .filter(|p| p.tolerance.is_ok())
         .map(|p| p.case.name.clone())
         .collect();
     let captures = runner::run(&opts.runner, &calls_dir, &names, dir, &inputs, watch)?;
@@ -505,8 +553,10 @@ pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
         }
         reports.push(r);
     }
+    let run: std::collections::HashSet<&str> =
+        prepared.iter().map(|p| p.case.name.as_str()).collect();
     for e in &expectations.cases {
-        if !prepared.iter().any(|p| p.case.name == e.case) {
+        if !run.contains(e.case.as_str()) {
             summary.warnings.push(format!(
                 "the expectations name case `{}`, which this run does not have",
                 e.case

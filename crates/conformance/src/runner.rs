@@ -171,8 +171,8 @@ pub struct Image {
 /// What the device did with one case.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Outcome {
-    /// The image it drew.
-    Drawn(Image),
+    /// The PNG of the image it drew, read when the case is judged ([`read_capture`]).
+    Drawn(PathBuf),
     /// Why it drew nothing (the call that failed, or that the replayer stopped).
     Failed(String),
 }
@@ -211,6 +211,17 @@ pub fn open_regular(path: &Path) -> Result<fs::File, String> {
 
 /// Reads a PNG the replayer wrote: 8-bit RGBA only.
 pub fn read_png(path: &Path) -> Result<Image, String> {
+    decode_png(path, None)
+}
+
+/// Reads the PNG a replayer wrote for a case whose target is `width` x `height`: its header is
+/// checked against them before a pixel is decoded, so that a forged size allocates nothing.
+pub fn read_capture(path: &Path, width: u32, height: u32) -> Result<Image, String> {
+    decode_png(path, Some((width, height)))
+}
+
+/// [`read_png`], of `size` when given.
+fn decode_png(path: &Path, size: Option<(u32, u32)>) -> Result<Image, String> {
     let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
     let file = open_regular(path)?;
     let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
@@ -224,6 +235,13 @@ pub fn read_png(path: &Path) -> Result<Image, String> {
         )));
     }
     let (width, height) = (info.width, info.height);
+    if let Some((w, h)) = size
+        && (w, h) != (width, height)
+    {
+        return Err(fail(&format_args!(
+            "the device's image is {width}x{height}, the target {w}x{h}"
+        )));
+    }
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| fail(&"image too large"))?;
@@ -237,14 +255,23 @@ pub fn read_png(path: &Path) -> Result<Image, String> {
     })
 }
 
-/// Reads a folder a replayer filled: `device.txt`, `results.txt` and the images it names.
+/// Reads a folder a replayer filled: `device.txt` and `results.txt` (absent before the first
+/// result), each at most [`crate::MAX_TEXT_BYTES`]; the images it names are read when judged.
 pub fn read_captures(dir: &Path) -> Result<Captures, String> {
     let device_file = dir.join("device.txt");
-    let text = fs::read_to_string(&device_file)
-        .map_err(|e| format!("{}: {e} (did the replayer run?)", device_file.display()))?;
+    if !device_file.exists() {
+        return Err(format!(
+            "{}: the replayer wrote no device description",
+            device_file.display()
+        ));
+    }
+    let text = crate::read_text(&device_file)?;
     let device = DeviceInfo::parse(&text, &device_file)?;
     let results_file = dir.join("results.txt");
-    let results = fs::read_to_string(&results_file).unwrap_or_default();
+    let results = match fs::symlink_metadata(&results_file) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
+        _ => crate::read_text(&results_file)?,
+    };
     let mut outcomes = HashMap::new();
     for line in results.lines() {
         let mut fields = line.splitn(3, '\t');
@@ -252,10 +279,7 @@ pub fn read_captures(dir: &Path) -> Result<Captures, String> {
             continue;
         };
         let outcome = match status {
-            "ok" => match read_png(&dir.join(format!("{name}.png"))) {
-                Ok(image) => Outcome::Drawn(image),
-                Err(e) => Outcome::Failed(e),
-            },
+            "ok" => Outcome::Drawn(dir.join(format!("{name}.png"))),
             _ => Outcome::Failed(fields.next().unwrap_or("failed").to_string()),
         };
         outcomes.insert(name.to_string(), outcome);
@@ -521,8 +545,7 @@ fn replay(
         };
         let mut captures = read_captures(out_dir).map_err(|e| {
             format!(
-                "the replayer ({}) {how} and wrote no device description: {e}; its output is in \
-                 {}",
+                "the replayer ({}) {how}: {e}; its output is in {}",
                 replayer.label,
                 log.display()
             )

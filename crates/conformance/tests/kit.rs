@@ -146,6 +146,16 @@ fn replay_on_pointillist(stream: &[u8], caps: Caps) -> Image {
     }
 }
 
+/// `scene`'s stream with its own caps, in memory.
+fn export_to_memory(
+    scene: &pointillist_scene::Scene,
+    frame: Option<u32>,
+) -> Result<(Vec<u8>, export::Exported), String> {
+    let mut stream = Vec::new();
+    let ex = export::export(scene, scene.caps, frame, &mut stream, Path::new("memory"))?;
+    Ok((stream, ex))
+}
+
 /// Every call that reaches the pixels is in the stream: replayed on a D3D9 device of
 /// pointillist itself, each scene (particles at frame 0, D3D8 scenes included) gives the image
 /// `render` gives, bit for bit.
@@ -160,9 +170,10 @@ fn every_scene_exported_and_replayed_is_its_render() {
     for dir in paths {
         for case in find_cases(&[dir]).unwrap() {
             let scene = pointillist_scene::load(&case.scene).unwrap();
-            let ex = export::export(&scene, scene.caps, None).unwrap();
+            let (stream, ex) = export_to_memory(&scene, None).unwrap();
+            assert_eq!(ex.bytes, stream.len() as u64);
             let ours = render(&scene, scene.caps, scene.behaviours).unwrap();
-            let replayed = replay_on_pointillist(&ex.stream, scene.caps);
+            let replayed = replay_on_pointillist(&stream, scene.caps);
             assert!(ours == replayed, "{}", case.scene.display());
             assert!(
                 ex.draws > 0 || scene.draw_count() == 0,
@@ -179,12 +190,9 @@ fn every_scene_exported_and_replayed_is_its_render() {
 #[test]
 fn a_particle_frame_is_exported_as_drawn() {
     let scene = pointillist_scene::load(&repo().join("scenes/fountain.toml")).unwrap();
-    let ex = export::export(&scene, scene.caps, Some(20)).unwrap();
-    let replayed = replay_on_pointillist(&ex.stream, scene.caps);
-    let frame0 = replay_on_pointillist(
-        &export::export(&scene, scene.caps, Some(0)).unwrap().stream,
-        scene.caps,
-    );
+    let (stream, _) = export_to_memory(&scene, Some(20)).unwrap();
+    let replayed = replay_on_pointillist(&stream, scene.caps);
+    let frame0 = replay_on_pointillist(&export_to_memory(&scene, Some(0)).unwrap().0, scene.caps);
     assert_ne!(replayed, frame0, "frame 20 has particles frame 0 lacks");
     let mut device = Device::new(CpuBackend::new(), scene.device_desc()).unwrap();
     let mut system = scene.particle_system().unwrap();
@@ -193,7 +201,7 @@ fn a_particle_frame_is_exported_as_drawn() {
         .render_frame(&mut device, &mut system, &mut buffers, 20)
         .unwrap();
     assert_eq!(replayed.rgba, device.read_target().unwrap().to_rgba8());
-    let e = export::export(&scene, scene.caps, Some(100_000)).unwrap_err();
+    let e = export_to_memory(&scene, Some(100_000)).unwrap_err();
     assert!(e.contains("--frame 100000 is outside"), "{e}");
 }
 
