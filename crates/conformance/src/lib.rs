@@ -40,7 +40,6 @@ use pointillist_scene::Scene;
 use crate::expect::{Expectations, Status};
 use crate::report::{CaseImages, CaseReport};
 use crate::runner::{DeviceInfo, Image, Outcome, Runner, Watch};
-use pointillist_image::output::Destination;
 
 /// The largest text file the kit reads (`device.txt`, `results.txt`, an expectations file),
 /// in bytes: checked from the file's length before it is read.

@@ -35,6 +35,7 @@ fn run(dir: &Path, expect: Option<PathBuf>) -> Result<Summary, String> {
         runner: Runner::Captures(dir.join("captures")),
         report: dir.join("report"),
         expect,
+        behaviours: Vec::new(),
     })
 }
 
@@ -97,7 +98,7 @@ fn captures_are_read_only_for_cases_and_only_at_their_target_size() {
     )
     .unwrap();
     let summary = run(&dir, None).unwrap();
-    assert_eq!(summary.counts, [0, 0, 1]);
+    assert_eq!(summary.counts, [0, 0, 0, 1]);
     let m = message(&dir, "point");
     assert!(
         m.contains("point.png: the device's image is 65535x65535, the target 8x4"),
@@ -151,7 +152,7 @@ fn text_files_are_regular_bounded_utf8_and_named() {
     // No results at all: every case says so.
     fs::remove_file(&results).unwrap();
     let summary = run(&dir, None).unwrap();
-    assert_eq!(summary.counts, [0, 0, 1]);
+    assert_eq!(summary.counts, [0, 0, 0, 1]);
     assert!(message(&dir, "point").contains("the replayer wrote no result"));
     let _ = fs::remove_dir_all(&dir);
 }
@@ -211,6 +212,7 @@ fn the_report_never_replaces_a_file_a_scene_reads() {
             clip_plane_scaled_points: true,
             ..pointillist_core::caps::Caps::reference()
         },
+        Default::default(),
     )
     .unwrap();
     pointillist_image::write_png_atomic(

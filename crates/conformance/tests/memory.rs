@@ -132,10 +132,11 @@ fn streams_and_captures_are_never_held_whole() {
             runner: Runner::Captures(caps),
             report: dir.join("report"),
             expect: None,
+            behaviours: Vec::new(),
         })
         .unwrap()
     });
-    assert_eq!(summary.counts, [4, 0, 0], "{:?}", summary.unexpected);
+    assert_eq!(summary.counts, [4, 0, 0, 0], "{:?}", summary.unexpected);
     assert!(peak < 16 * MIB, "conform held {peak} bytes");
     let _ = fs::remove_dir_all(&dir);
 }
