@@ -444,6 +444,14 @@ pub struct Scene {
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     use std::io::Read;
     let fail = |why: String| SceneError::unplaced(path, format!("cannot read scene file: {why}"));
+    // Checked before the open too: opening a named pipe waits for a writer.
+    let before = std::fs::metadata(path).map_err(|e| fail(e.to_string()))?;
+    if !before.is_file() {
+        return Err(fail(format!(
+            "it is not a regular file ({})",
+            file_kind(&before)
+        )));
+    }
     let file = std::fs::File::open(path).map_err(|e| fail(e.to_string()))?;
     let meta = file.metadata().map_err(|e| fail(e.to_string()))?;
     if !meta.is_file() {

@@ -219,6 +219,37 @@ fn emitters_are_counted_and_each_charged_whole_blocks() {
     assert_eq!(crate::emitter_bytes(1025), 2048 * crate::PARTICLE_BYTES);
 }
 
+/// A named pipe as the scene file is refused before it is opened (opening it would wait for a
+/// writer for ever).
+#[cfg(unix)]
+#[test]
+fn a_named_pipe_as_the_scene_file_is_refused_without_waiting() {
+    let dir = std::env::temp_dir().join(format!("pointillist-scene-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let pipe = dir.join("pipe.toml");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&pipe)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let (tx, rx) = std::sync::mpsc::channel();
+    let path = pipe.clone();
+    std::thread::spawn(move || {
+        let _ = tx.send(crate::load(&path).map(|_| ()).map_err(|e| e.to_string()));
+    });
+    let result = rx.recv_timeout(std::time::Duration::from_secs(10));
+    if result.is_err() {
+        // Unblock the waiting open so the thread ends, then fail.
+        let _ = std::fs::OpenOptions::new().write(true).open(&pipe);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let e = result.expect("load returned within 10 s").unwrap_err();
+    assert!(
+        e.ends_with("pipe.toml: cannot read scene file: it is not a regular file (a named pipe)"),
+        "{e}"
+    );
+}
+
 #[test]
 fn a_scene_file_is_a_regular_file_of_bounded_size() {
     let e = crate::load(Path::new("/dev/zero")).unwrap_err().to_string();
