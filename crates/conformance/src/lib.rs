@@ -58,7 +58,10 @@ pub(crate) fn read_text(path: &Path) -> Result<String, String> {
     // Checked before opening: opening a named pipe waits for a writer.
     let meta = fs::metadata(path).map_err(|e| fail(&e))?;
     if !meta.is_file() {
-        return Err(fail(&"it is not a regular file"));
+        return Err(fail(&format_args!(
+            "it is not a regular file ({})",
+            pointillist_image::output::file_kind(&meta)
+        )));
     }
     if meta.len() > MAX_TEXT_BYTES {
         return Err(too_big(meta.len()));
@@ -241,8 +244,11 @@ fn prepare(
     case: Case,
     calls_dir: &Path,
     inputs: &mut Vec<PathBuf>,
-) -> (Prepared, Option<PendingFile>) {
+) -> Result<(Prepared, Option<PendingFile>), String> {
     let path = calls_dir.join(format!("{}.calls", case.name));
+    // A stream that cannot be put in place (a device, a pipe or an input at its name): the
+    // report folder is unusable, and the kit cannot run.
+    Destination::check(&path, inputs).map_err(|e| e.to_string())?;
     let exported = pointillist_scene::load(&case.scene)
         .map_err(|e| e.to_string())
         .and_then(|scene| {
@@ -253,7 +259,7 @@ fn prepare(
         Ok((ex, file)) => (Ok(ex.tolerance), Some(file)),
         Err(e) => (Err(e), None),
     };
-    (Prepared { case, tolerance }, file)
+    Ok((Prepared { case, tolerance }, file))
 }
 
 /// The `[case]` title and rules of a scene.
@@ -514,7 +520,7 @@ pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
         if let Runner::Captures(captures) = &opts.runner {
             inputs.push(captures.join(format!("{}.png", case.name)));
         }
-        let (p, stream) = prepare(case, &calls_dir, &mut inputs);
+        let (p, stream) = prepare(case, &calls_dir, &mut inputs)?;
         prepared.push(p);
         streams.extend(stream);
     }
