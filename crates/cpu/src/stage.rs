@@ -389,8 +389,15 @@ impl VertexProcessing {
                 l.and(finite!(pz), finite!(pw)),
             );
             let (x, y, z, de) = if self.pretransformed {
-                // w = 1/RHW positive and, with clipping, the depth inside the viewport's range.
-                keep = l.and(keep, l.cmp(Cmp::Greater, pw, zero));
+                // `PointSetup::keeps_pretransformed`: RHW positive (or 0 and -0 under the
+                // `zero_rhw` behaviour `drawn`) and, with clipping, the depth inside the
+                // viewport's range.
+                let rhw_kept = if points.zero_rhw_drawn() {
+                    Cmp::GreaterEqual
+                } else {
+                    Cmp::Greater
+                };
+                keep = l.and(keep, l.cmp(rhw_kept, pw, zero));
                 if p.clipping {
                     keep = l.and(keep, l.cmp(Cmp::LessEqual, l.splat(p.min_z), pz));
                     keep = l.and(keep, l.cmp(Cmp::LessEqual, pz, l.splat(p.max_z)));
