@@ -528,7 +528,7 @@ fn error_unknown_key() {
             .unwrap_err()
             .to_string(),
         "s.toml:2:1: colour: unknown key (expected one of: format, api, target, \
-         caps, viewport, transform, states, stage, texture, clip_plane, material, light, draw, \
+         caps, behaviour, viewport, transform, states, stage, texture, clip_plane, material, light, draw, \
          emitter, animation, case)"
     );
 }
