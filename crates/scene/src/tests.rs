@@ -77,11 +77,6 @@ fn behaviour_table_sets_switches_and_names_bad_ones() {
         e.starts_with("tests/data/test.toml:6:16: behaviour.minimum_size: "),
         "{e}"
     );
-    let e = err("behaviour = 3\n");
-    assert!(
-        e.starts_with("tests/data/test.toml:5:13: behaviour: "),
-        "{e}"
-    );
 }
 
 #[test]
