@@ -1,14 +1,15 @@
 //! A whole render on the CPU backend from an arbitrary D3D9 call sequence: a target of at most
-//! 64x64, any render, stage and sampler states (any 32 bits, SPEC 2.7), textures of at most
-//! 16x16 texels, viewports, clip planes, transforms and draws of at most 256 vertices of any FVF
-//! code. Each call succeeds or returns a one-line `DeviceError`; the target always reads back
-//! whole.
+//! 64x64, any device behaviour options (SPEC 10), any render, stage and sampler states (any 32
+//! bits, SPEC 2.7), textures of at most 16x16 texels, viewports, clip planes, transforms and
+//! draws of at most 256 vertices of any FVF code. Each call succeeds or returns a one-line
+//! `DeviceError`; the target always reads back whole.
 #![no_main]
 
 use std::sync::Arc;
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
+use pointillist_core::behaviour::{BEHAVIOURS, Behaviours};
 use pointillist_core::caps::Caps;
 use pointillist_core::device::{Device, DeviceDesc, TransformType, Viewport};
 use pointillist_core::fvf::Fvf;
@@ -42,6 +43,8 @@ enum Call {
 struct Input {
     d3d8: bool,
     profile: u8,
+    /// One option per behaviour switch (SPEC 10), folded onto the switch's options.
+    behaviours: [u8; 8],
     width: u8,
     height: u8,
     clear: u32,
@@ -55,9 +58,15 @@ fuzz_target!(|input: Input| {
     let width = u32::from(input.width % 64) + 1;
     let height = u32::from(input.height % 64) + 1;
     let profile = Caps::PROFILES[usize::from(input.profile) % Caps::PROFILES.len()];
+    let mut behaviours = Behaviours::default();
+    for (def, &pick) in BEHAVIOURS.iter().zip(&input.behaviours) {
+        let option = def.options[usize::from(pick) % def.options.len()].0;
+        behaviours.set(def.name, option).expect("a switch's own option");
+    }
     let desc = DeviceDesc {
         api: if input.d3d8 { Api::D3d8 } else { Api::D3d9 },
         caps: Caps::profile(profile).expect("a listed profile"),
+        behaviours,
         width,
         height,
         clear_color: input.clear,
