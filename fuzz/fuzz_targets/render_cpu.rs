@@ -61,7 +61,9 @@ fuzz_target!(|input: Input| {
     let mut behaviours = Behaviours::default();
     for (def, &pick) in BEHAVIOURS.iter().zip(&input.behaviours) {
         let option = def.options[usize::from(pick) % def.options.len()].0;
-        behaviours.set(def.name, option).expect("a switch's own option");
+        behaviours
+            .set(def.name, option)
+            .expect("a switch's own option");
     }
     let desc = DeviceDesc {
         api: if input.d3d8 { Api::D3d8 } else { Api::D3d9 },
