@@ -149,6 +149,15 @@ fn table(out: &mut String, caps: &Caps) {
             yes_no(caps.clip_plane_scaled_points).to_string(),
             clip,
         ),
+        (
+            "D3DPMISCCAPS_CLIPTLVERTS",
+            yes_no(caps.clip_tl_verts).to_string(),
+            if caps.clip_tl_verts {
+                "pre-transformed points clipped by depth with ZENABLE"
+            } else {
+                "pre-transformed points never clipped by depth"
+            },
+        ),
         ("vertex processing", vp.to_string(), vp_note),
         (
             "D3DPRASTERCAPS_WFOG",

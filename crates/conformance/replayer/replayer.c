@@ -529,6 +529,8 @@ static int write_device(struct replay *r, const char *path)
     fprintf(f, "fvfcaps_psize=%d\n", (r->caps.FVFCaps & D3DFVFCAPS_PSIZE) ? 1 : 0);
     fprintf(f, "clip_plane_scaled_points=%d\n",
             (r->caps.PrimitiveMiscCaps & D3DPMISCCAPS_CLIPPLANESCALEDPOINTS) ? 1 : 0);
+    fprintf(f, "clip_tl_verts=%d\n",
+            (r->caps.PrimitiveMiscCaps & D3DPMISCCAPS_CLIPTLVERTS) ? 1 : 0);
     fprintf(f, "w_fog=%d\n", (r->caps.RasterCaps & D3DPRASTERCAPS_WFOG) ? 1 : 0);
     fprintf(f, "hw_transform_and_light=%d\n",
             (r->caps.DevCaps & D3DDEVCAPS_HWTRANSFORMANDLIGHT) ? 1 : 0);

@@ -152,6 +152,7 @@ pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
         max_point_size: device.max_point_size,
         per_vertex_point_size: device.fvfcaps_psize,
         clip_plane_scaled_points: device.clip_plane_scaled_points,
+        clip_tl_verts: device.clip_tl_verts,
         vertex_processing: scene.vertex_processing,
         w_fog: device.w_fog,
         max_active_lights: device.max_active_lights,
@@ -312,6 +313,9 @@ fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
             "clip_plane_scaled_points {}",
             scene.clip_plane_scaled_points
         ));
+    }
+    if scene.clip_tl_verts != device.clip_tl_verts {
+        diffs.push(format!("clip_tl_verts {}", scene.clip_tl_verts));
     }
     if scene.w_fog != device.w_fog {
         diffs.push(format!("w_fog {}", scene.w_fog));

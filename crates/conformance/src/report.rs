@@ -72,6 +72,7 @@ struct JsonDevice<'a> {
     max_point_size: f32,
     fvfcaps_psize: bool,
     clip_plane_scaled_points: bool,
+    clip_tl_verts: bool,
     w_fog: bool,
     max_active_lights: u32,
 }
@@ -107,6 +108,7 @@ pub fn json(
             max_point_size: device.max_point_size,
             fvfcaps_psize: device.fvfcaps_psize,
             clip_plane_scaled_points: device.clip_plane_scaled_points,
+            clip_tl_verts: device.clip_tl_verts,
             w_fog: device.w_fog,
             max_active_lights: device.max_active_lights,
         },
@@ -352,6 +354,10 @@ pub fn html(
         } else {
             "no"
         },
+    );
+    row(
+        "D3DPMISCCAPS_CLIPTLVERTS",
+        if device.clip_tl_verts { "yes" } else { "no" },
     );
     row(
         "D3DPRASTERCAPS_WFOG",

@@ -93,6 +93,9 @@ pub struct DeviceInfo {
     pub fvfcaps_psize: bool,
     /// D3DPMISCCAPS_CLIPPLANESCALEDPOINTS.
     pub clip_plane_scaled_points: bool,
+    /// D3DPMISCCAPS_CLIPTLVERTS (depth clipping of pre-transformed points, SPEC 3.1); captures
+    /// made before the replayer reported it count as having it, as the reference caps do.
+    pub clip_tl_verts: bool,
     /// D3DPRASTERCAPS_WFOG (table fog from w, SPEC 9.5); captures made before the replayer
     /// reported it count as having it, as the reference caps do.
     pub w_fog: bool,
@@ -142,6 +145,7 @@ impl DeviceInfo {
             max_point_size,
             fvfcaps_psize: flag("fvfcaps_psize")?,
             clip_plane_scaled_points: flag("clip_plane_scaled_points")?,
+            clip_tl_verts: get("clip_tl_verts").is_err() || flag("clip_tl_verts")?,
             w_fog: get("w_fog").is_err() || flag("w_fog")?,
             max_active_lights,
             lines,

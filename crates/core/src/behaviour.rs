@@ -82,7 +82,8 @@ macro_rules! switches {
             }
 
             impl $ty {
-                const ALL: &'static [$ty] = &[$($ty::$opt),+];
+                /// Every option, in the table's order.
+                pub const ALL: &'static [$ty] = &[$($ty::$opt),+];
             }
 
             const _: () = assert!($ty::ALL.len() == BEHAVIOURS[$index].options.len());
@@ -138,6 +139,17 @@ switches! {
         /// Dropped.
         Dropped,
     }
+    /// SPEC 3.1: which points are clipped by depth, and when D3DRS_CLIPPING decides.
+    depth_clip = 5, DepthClip {
+        /// As Windows drivers: under hardware vertex processing CLIPPING is ignored, transformed
+        /// points are always depth-clipped and pre-transformed ones only with CLIPTLVERTS and
+        /// ZENABLE; under software vertex processing CLIPPING decides for both.
+        VertexProcessing,
+        /// As D3D9On12: CLIPPING decides; pre-transformed points also need ZENABLE.
+        ClippingState,
+        /// As DXVK: every point is depth-clipped, whatever CLIPPING, ZENABLE and the caps say.
+        Always,
+    }
     /// SPEC 2.5: a point whose size is below one pixel.
     minimum_size = 2, MinimumSize {
         /// The square covers what it covers: size 0 draws nothing.
@@ -148,7 +160,7 @@ switches! {
 }
 
 /// Every switch; the index of each is the one its accessor on [`Behaviours`] reads.
-pub const BEHAVIOURS: [BehaviourDef; 5] = [
+pub const BEHAVIOURS: [BehaviourDef; 6] = [
     BehaviourDef {
         name: "specular_fog",
         summary: "fog of a diffuse + specular sum above 1 (SPECULARENABLE and FOGENABLE)",
@@ -242,6 +254,33 @@ pub const BEHAVIOURS: [BehaviourDef; 5] = [
         sources: &[
             "Wine dlls/d3d9/tests/visual.c, test_table_fog_zw: XYZRHW quads with RHW 0 are drawn on Windows drivers",
             "Wine dlls/wined3d/ffp_hlsl.c and DXVK 2.6.2 d3d9_fixed_function.cpp draw RHW 0 as RHW 1",
+        ],
+    },
+    BehaviourDef {
+        name: "depth_clip",
+        summary: "which points are clipped by depth (z outside 0..w, pre-transformed Z outside 0..1), and whether D3DRS_CLIPPING decides",
+        rule: "SPEC 3.1",
+        options: &[
+            (
+                "vertex_processing",
+                "hardware vertex processing ignores CLIPPING: transformed points always clipped, pre-transformed ones only with CLIPTLVERTS and ZENABLE; software vertex processing: CLIPPING decides",
+            ),
+            (
+                "clipping_state",
+                "CLIPPING decides; pre-transformed points are clipped only with ZENABLE as well",
+            ),
+            (
+                "always",
+                "every point is clipped, whatever CLIPPING, ZENABLE and CLIPTLVERTS say",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Hardware,
+        sources: &[
+            "Wine dlls/ddraw/tests/visual.c and dlls/d3d9/tests/visual.c, depth_clamp_test: with hardware vertex processing D3DRS_CLIPPING is ignored; pre-transformed quads are clipped with D3DPMISCCAPS_CLIPTLVERTS, clamped without it; MinZ/MaxZ do not decide",
+            "Wine dlls/d3d9/tests/visual.c, z_range_test (clipped at Z < 0 and Z > 1 under CLIPTLVERTS) and zenable_test (Z outside 0..1 drawn with ZENABLE FALSE)",
+            "microsoft/D3D9On12 src/9on12PixelStage.cpp (DepthClipEnable = D3DRS_CLIPPING) and include/9on12PipelineStateStructures.h (off for pre-transformed draws without an enabled depth buffer)",
+            "DXVK src/d3d9/d3d9_device.cpp: setDepthClip(true) for every draw",
         ],
     },
 ];

@@ -24,6 +24,9 @@ pub struct Caps {
     pub per_vertex_point_size: bool,
     /// D3DPMISCCAPS_CLIPPLANESCALEDPOINTS: user clip planes clip the scaled square (SPEC 3.3).
     pub clip_plane_scaled_points: bool,
+    /// D3DPMISCCAPS_CLIPTLVERTS: pre-transformed points are clipped by depth under hardware
+    /// vertex processing (SPEC 3.1, the `depth_clip` behaviour `vertex_processing`).
+    pub clip_tl_verts: bool,
     /// Hardware or software vertex processing.
     pub vertex_processing: VertexProcessing,
     /// D3DPRASTERCAPS_WFOG: table fog from eye-relative w under a non-affine projection
@@ -54,12 +57,13 @@ impl Caps {
     ];
 
     /// The `reference` profile: 8192-pixel sprites, per-vertex size, scaled-point clipping,
-    /// w-based table fog, 8 active lights.
+    /// depth clipping of pre-transformed points, w-based table fog, 8 active lights.
     pub const fn reference() -> Caps {
         Caps {
             max_point_size: 8192.0,
             per_vertex_point_size: true,
             clip_plane_scaled_points: true,
+            clip_tl_verts: true,
             vertex_processing: VertexProcessing::Hardware,
             w_fog: true,
             max_active_lights: 8,

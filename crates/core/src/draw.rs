@@ -6,12 +6,11 @@
 //! [`Backend::draw_points`](crate::device::Backend::draw_points); backends and tests read these
 //! instead of resolving the states again, so every user of a rule reads one definition.
 
-use crate::behaviour::BehaviourSet;
+use crate::behaviour::{BehaviourSet, DepthClip};
 use crate::fog::FogSource;
 use crate::fvf::Fvf;
 use crate::pixel::{BlendClass, PixelSetup};
-use crate::point::PointSetup;
-use crate::point::clamp_bounds;
+use crate::point::{PointSetup, clamp_bounds, depth_clipped};
 use crate::state::DeviceState;
 use crate::states::{FogMode, RenderState};
 
@@ -72,6 +71,21 @@ impl<'a> DrawSetup<'a> {
         if self.fvf.is_pretransformed() {
             set.insert("zero_rhw");
         }
+        let clipped = |rule| {
+            depth_clipped(
+                rule,
+                &self.state.caps.effective(),
+                self.fvf.is_pretransformed(),
+                rs(RenderState::CLIPPING) != 0,
+                rs(RenderState::ZENABLE) != 0,
+            )
+        };
+        if DepthClip::ALL
+            .iter()
+            .any(|&r| clipped(r) != clipped(DepthClip::ALL[0]))
+        {
+            set.insert("depth_clip");
+        }
         let (lo, hi) = clamp_bounds(
             f(RenderState::POINTSIZE_MIN),
             f(RenderState::POINTSIZE_MAX),
@@ -129,5 +143,21 @@ mod tests {
         assert!(read(&[fog, linear], xyz_ds).is_empty(), "start 0, end 1");
         let min_0 = (RenderState::POINTSIZE_MIN, 0.0f32.to_bits());
         assert_eq!(read(&[min_0], xyz_ds), ["minimum_size"]);
+        let clipping_off = (RenderState::CLIPPING, 0);
+        let zenable_off = (RenderState::ZENABLE, 0);
+        assert_eq!(
+            read(&[clipping_off], xyz_ds),
+            ["depth_clip"],
+            "hardware vertex processing clips, clipping_state does not"
+        );
+        assert_eq!(
+            read(&[zenable_off], rhw_d),
+            ["zero_rhw", "depth_clip"],
+            "only always clips without a depth test"
+        );
+        assert!(
+            read(&[zenable_off], xyz_ds).is_empty(),
+            "transformed points are clipped under every option"
+        );
     }
 }

@@ -5,8 +5,8 @@
 //! single source of truth for SPEC sections 2 (size), 3 (clipping) and 4.1/4.3 (coverage,
 //! sprite coordinates).
 
-use crate::behaviour::{MinimumSize, ZeroRhw};
-use crate::caps::Caps;
+use crate::behaviour::{DepthClip, MinimumSize, ZeroRhw};
+use crate::caps::{Caps, VertexProcessing};
 use crate::fog::FogSetup;
 use crate::fvf::{Fvf, Layout, read_f32, read_u32};
 use crate::light::LightSetup;
@@ -71,6 +71,40 @@ pub fn clamp_bounds(size_min: f32, size_max: f32, max_point_size: f32) -> (f32, 
     };
     let hi = max_point_size.min(size_max); // f32::min ignores a NaN operand
     (lo, if hi.is_nan() { f32::INFINITY } else { hi })
+}
+
+/// SPEC 3.1 and the `depth_clip` behaviour: true when a draw's points are clipped by depth.
+/// `clipping` is D3DRS_CLIPPING, `zenable` is D3DRS_ZENABLE not FALSE (the target always has
+/// a depth buffer).
+pub fn depth_clipped(
+    rule: DepthClip,
+    caps: &Caps,
+    pretransformed: bool,
+    clipping: bool,
+    zenable: bool,
+) -> bool {
+    match rule {
+        DepthClip::VertexProcessing => match caps.vertex_processing {
+            VertexProcessing::Hardware => !pretransformed || (caps.clip_tl_verts && zenable),
+            VertexProcessing::Software => clipping,
+        },
+        DepthClip::ClippingState => clipping && (!pretransformed || zenable),
+        DepthClip::Always => true,
+    }
+}
+
+/// SPEC 3.1: the depth a kept point is tested with and writes: its Z clamped to 0..1, the range
+/// of the depth buffer (a point not clipped by depth may lie outside it). Fog reads the Z
+/// before the clamp (SPEC 9.5).
+#[inline]
+pub fn written_depth(z: f32) -> f32 {
+    if z < 0.0 {
+        0.0
+    } else if z > 1.0 {
+        1.0
+    } else {
+        z
+    }
 }
 
 /// SPEC 4.1: the pixel indices `k` with `lo <= k < hi` for one axis of a square, as
@@ -175,7 +209,7 @@ pub struct ScreenPoint {
     pub x: f32,
     /// Screen y of the centre.
     pub y: f32,
-    /// Depth written and tested (SPEC 4.2).
+    /// Depth written and tested, clamped to 0..1 (SPEC 3.1, [`written_depth`]).
     pub z: f32,
     /// Final size S (SPEC 2).
     pub size: f32,
@@ -241,7 +275,8 @@ pub struct PointSetup {
     size_bounds: (f32, f32),
     /// The `zero_rhw` behaviour is `drawn` (SPEC 3.1).
     zero_rhw_drawn: bool,
-    clipping: bool,
+    /// The draw's points are clipped by depth (SPEC 3.1, [`depth_clipped`]).
+    depth_clip: bool,
     /// Enabled user clip planes: world space (vertex mode) or clip space (scaled mode).
     planes: [[f32; 4]; 6],
     plane_count: usize,
@@ -275,6 +310,13 @@ impl PointSetup {
         let pretransformed = fvf.is_pretransformed();
         let vp = state.viewport;
         let clipping = rs(RenderState::CLIPPING) != 0;
+        let depth_clip = depth_clipped(
+            state.behaviours.depth_clip(),
+            &caps,
+            pretransformed,
+            clipping,
+            rs(RenderState::ZENABLE) != 0,
+        );
         let scale =
             (rs(RenderState::POINTSCALEENABLE) != 0 && !pretransformed).then(|| PointScale {
                 a: rf(RenderState::POINTSCALE_A),
@@ -338,7 +380,7 @@ impl PointSetup {
                 state.behaviours.minimum_size(),
             ),
             zero_rhw_drawn: state.behaviours.zero_rhw() == ZeroRhw::Drawn,
-            clipping,
+            depth_clip,
             planes,
             plane_count,
             scaled_planes,
@@ -433,9 +475,10 @@ impl PointSetup {
         self.size_bounds
     }
 
-    /// D3DRS_CLIPPING: points outside the depth range are dropped (SPEC 3.1).
-    pub fn clipping(&self) -> bool {
-        self.clipping
+    /// True when the draw's points are clipped by depth: transformed ones outside
+    /// `0 <= z <= w`, pre-transformed ones outside `0 <= Z <= 1` (SPEC 3.1, [`depth_clipped`]).
+    pub fn depth_clip(&self) -> bool {
+        self.depth_clip
     }
 
     /// The enabled user clip planes (SPEC 3.3): in clip space when
@@ -465,13 +508,12 @@ impl PointSetup {
     }
 
     /// SPEC 3.1 for a pre-transformed vertex with finite coordinates: RHW must be positive (or
-    /// 0 or -0, drawn as RHW 1, under the `zero_rhw` behaviour `drawn`), and with clipping the
-    /// depth `z` inside the viewport's `[min_z, max_z]`.
+    /// 0 or -0, drawn as RHW 1, under the `zero_rhw` behaviour `drawn`), and under depth
+    /// clipping `0 <= z <= 1`, whatever the viewport's depth range.
     #[inline]
     pub fn keeps_pretransformed(&self, z: f32, rhw: f32) -> bool {
-        let vp = &self.viewport;
         (rhw > 0.0 || (rhw == 0.0 && self.zero_rhw_drawn))
-            && (!self.clipping || (vp.min_z <= z && z <= vp.max_z))
+            && (!self.depth_clip || (0.0 <= z && z <= 1.0))
     }
 
     /// True when a pre-transformed point with RHW 0 or -0 is drawn, as RHW 1 (the `zero_rhw`
@@ -494,8 +536,8 @@ impl PointSetup {
 
     /// SPEC 1, 2.2 and 3.1 for a finite object-space position of a transformed vertex: its
     /// clip-space position, eye distance and screen position; `None` when it is dropped (clip
-    /// w <= 0 or not finite, or depth outside `0 <= z <= w` with clipping). The screen position
-    /// may still be non-finite.
+    /// w <= 0 or not finite, or depth outside `0 <= z <= w` under depth clipping). The screen
+    /// position may still be non-finite, and its depth outside 0..1 ([`written_depth`]).
     #[inline]
     pub fn project(&self, pos: [f32; 4]) -> Option<Projection> {
         let vp = &self.viewport;
@@ -506,7 +548,7 @@ impl PointSetup {
         if !c.iter().all(|v| v.is_finite()) || c[3] <= 0.0 {
             return None;
         }
-        if self.clipping && !(0.0 <= c[2] && c[2] <= c[3]) {
+        if self.depth_clip && !(0.0 <= c[2] && c[2] <= c[3]) {
             return None;
         }
         Some(Projection {
@@ -574,7 +616,7 @@ impl PointSetup {
         let mut point = ScreenPoint {
             x,
             y,
-            z,
+            z: written_depth(z),
             size,
             left,
             top,
@@ -648,6 +690,57 @@ impl PointSetup {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// SPEC 3.1's depth clipping, option by option, on the situations of Wine's
+    /// `depth_clamp_test` (CLIPPING off, with and without CLIPTLVERTS), `z_range_test` and
+    /// `zenable_test`.
+    #[test]
+    fn spec_3_1_who_is_depth_clipped() {
+        let hw = Caps::reference();
+        let no_tl = Caps {
+            clip_tl_verts: false,
+            ..hw
+        };
+        let sw = Caps {
+            vertex_processing: VertexProcessing::Software,
+            ..hw
+        };
+        use DepthClip::{Always, ClippingState, VertexProcessing as ByVp};
+        // (rule, caps, pretransformed, CLIPPING, ZENABLE) -> clipped
+        let table = [
+            (ByVp, hw, false, false, true, true),
+            (ByVp, hw, false, false, false, true),
+            (ByVp, hw, true, false, true, true),
+            (ByVp, hw, true, true, false, false),
+            (ByVp, no_tl, true, true, true, false),
+            (ByVp, sw, false, false, true, false),
+            (ByVp, sw, true, true, false, true),
+            (ClippingState, hw, false, false, true, false),
+            (ClippingState, hw, false, true, false, true),
+            (ClippingState, hw, true, true, false, false),
+            (ClippingState, no_tl, true, true, true, true),
+            (Always, no_tl, true, false, false, true),
+            (Always, sw, false, false, false, true),
+        ];
+        for (rule, caps, pre, clipping, zenable, clipped) in table {
+            assert_eq!(
+                depth_clipped(rule, &caps, pre, clipping, zenable),
+                clipped,
+                "{rule:?} {:?} clip_tl_verts {} pretransformed {pre} CLIPPING {clipping} \
+                 ZENABLE {zenable}",
+                caps.vertex_processing,
+                caps.clip_tl_verts
+            );
+        }
+    }
+
+    #[test]
+    fn spec_3_1_written_depth_is_clamped_to_0_1() {
+        for (z, d) in [(-1.0f32, 0.0f32), (5.0, 1.0), (0.25, 0.25), (1.0, 1.0)] {
+            assert_eq!(written_depth(z).to_bits(), d.to_bits(), "{z}");
+        }
+        assert_eq!(written_depth(-0.0).to_bits(), (-0.0f32).to_bits());
+    }
 
     #[test]
     fn spec_4_1_examples_centre_64() {

@@ -9,7 +9,7 @@
 //! level the machine has: it drops the same points and gives the same squares, bit for bit.
 
 use pointillist_core::fvf::{read_f32, read_u32};
-use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint};
+use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint, written_depth};
 use pointillist_core::states::Cmp;
 
 use crate::lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
@@ -123,15 +123,14 @@ struct Projector {
     /// WORLD * VIEW and PROJECTION (rows).
     world_view: [[f32; 4]; 4],
     projection: [[f32; 4]; 4],
-    /// D3DRS_CLIPPING (SPEC 3.1).
-    clipping: bool,
-    /// Viewport x, y, width, height as floats, min z, max z, and max z - min z.
+    /// Depth clipping (SPEC 3.1, `PointSetup::depth_clip`).
+    depth_clip: bool,
+    /// Viewport x, y, width, height as floats, min z, and max z - min z.
     x: f32,
     y: f32,
     width: f32,
     height: f32,
     min_z: f32,
-    max_z: f32,
     depth: f32,
 }
 
@@ -141,13 +140,12 @@ impl Projector {
         Projector {
             world_view: points.world_view().0,
             projection: points.projection().0,
-            clipping: points.clipping(),
+            depth_clip: points.depth_clip(),
             x: vp.x as f32,
             y: vp.y as f32,
             width: vp.width as f32,
             height: vp.height as f32,
             min_z: vp.min_z,
-            max_z: vp.max_z,
             depth: vp.max_z - vp.min_z,
         }
     }
@@ -252,7 +250,7 @@ impl VertexProcessing {
         }
         Some(Square {
             rect,
-            z,
+            z: written_depth(z),
             size,
             left,
             top,
@@ -390,22 +388,21 @@ impl VertexProcessing {
             );
             let (x, y, z, de) = if self.pretransformed {
                 // `PointSetup::keeps_pretransformed`: RHW positive (or 0 and -0 under the
-                // `zero_rhw` behaviour `drawn`) and, with clipping, the depth inside the
-                // viewport's range.
+                // `zero_rhw` behaviour `drawn`) and, under depth clipping, `0 <= Z <= 1`.
                 let rhw_kept = if points.zero_rhw_drawn() {
                     Cmp::GreaterEqual
                 } else {
                     Cmp::Greater
                 };
                 keep = l.and(keep, l.cmp(rhw_kept, pw, zero));
-                if p.clipping {
-                    keep = l.and(keep, l.cmp(Cmp::LessEqual, l.splat(p.min_z), pz));
-                    keep = l.and(keep, l.cmp(Cmp::LessEqual, pz, l.splat(p.max_z)));
+                if p.depth_clip {
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, zero, pz));
+                    keep = l.and(keep, l.cmp(Cmp::LessEqual, pz, l.splat(1.0)));
                 }
                 (px, py, pz, zero)
             } else {
                 // `PointSetup::project`: clip w positive and finite, the depth inside
-                // `0..=w` with clipping, a finite screen position.
+                // `0..=w` under depth clipping, a finite screen position.
                 // SPEC 3.1: subnormal coordinates count as zero (`v * 0` keeps the sign).
                 let tiny = |v| {
                     l.and(
@@ -421,7 +418,7 @@ impl VertexProcessing {
                     l.and(finite!(c2), finite!(c3)),
                 );
                 keep = l.and(keep, l.cmp(Cmp::Less, zero, c3));
-                if p.clipping {
+                if p.depth_clip {
                     keep = l.and(keep, l.cmp(Cmp::LessEqual, zero, c2));
                     keep = l.and(keep, l.cmp(Cmp::LessEqual, c2, c3));
                 }
@@ -484,7 +481,13 @@ impl VertexProcessing {
                     l.store_u(&mut out[k], l.float_to_int(ceiled[k]));
                 }
                 let mut floats = [[0f32; MAX_LANES]; 4];
-                l.store(&mut floats[0], z);
+                // `written_depth`: the depth clamped to 0..1 (-0 kept, as core's).
+                let one = l.splat(1.0);
+                let z = l.select_f(l.cmp(Cmp::Less, z, zero), zero, z);
+                l.store(
+                    &mut floats[0],
+                    l.select_f(l.cmp(Cmp::Greater, z, one), one, z),
+                );
                 l.store(&mut floats[1], left);
                 l.store(&mut floats[2], top);
                 l.store(&mut floats[3], size);
@@ -571,18 +574,32 @@ mod tests {
         }
     }
 
-    /// The fast vertex processing and core's stage agree on which points survive and on every field the fills
-    /// read, over pre-transformed and transformed formats, caps profiles, size and scale
-    /// states, transforms, viewports and hostile vertices.
+    /// The fast vertex processing and core's stage agree on which points survive and on every
+    /// field the fills read, over pre-transformed and transformed formats, caps profiles, size
+    /// and scale states, depth clipping (every `depth_clip` option, CLIPPING, ZENABLE and
+    /// CLIPTLVERTS), transforms, viewports and hostile vertices.
     #[test]
     fn fast_vertex_processing_matches_core_process() {
         let mut rng = Rng(0xC0FF_EE00_D15E_A5E5);
         let (mut tested, mut survivors) = (0, 0);
         for case in 0..600 {
             let profile = Caps::PROFILES[case % Caps::PROFILES.len()];
-            let caps = Caps::profile(profile).unwrap();
+            let caps = Caps {
+                clip_tl_verts: case % 11 != 3,
+                ..Caps::profile(profile).unwrap()
+            };
+            let mut behaviours = pointillist_core::Behaviours::default();
+            let depth_clip = &pointillist_core::behaviour::BEHAVIOURS
+                .iter()
+                .find(|d| d.name == "depth_clip")
+                .unwrap()
+                .options;
+            behaviours
+                .set("depth_clip", depth_clip[case / 7 % depth_clip.len()].0)
+                .unwrap();
             let desc = DeviceDesc {
                 caps,
+                behaviours,
                 ..DeviceDesc::new(120, 90)
             };
             let mut device = crate::device(desc).unwrap();
@@ -601,6 +618,7 @@ mod tests {
                 rs(&mut device, RenderState::POINTSIZE_MAX, hostile(&mut rng));
             }
             device.set_render_state(RenderState::CLIPPING, case % 5 != 0);
+            device.set_render_state(RenderState::ZENABLE, case % 13 != 2);
             device.set_render_state(RenderState::POINTSCALEENABLE, case % 2 == 0);
             for s in [
                 RenderState::POINTSCALE_A,

@@ -37,7 +37,7 @@ struct Uniforms {
     vp_rect: vec4i,
     // 2 / target width, 2 / target height, unused, unused.
     screen: vec4f,
-    // ALPHAREF (8 bits), CLIPPING, unused, unused.
+    // ALPHAREF (8 bits), depth clipping (core PointSetup::depth_clip), unused, unused.
     misc: vec4u,
     // TEXTUREFACTOR as floats.
     tfactor: vec4f,
@@ -439,13 +439,13 @@ fn point_stage(index: u32) -> Point {
     if VERTEX_SIZE {
         si = wordf(base + PSIZE_AT); // SPEC 2.1
     }
-    let clipping = U.misc.y != 0u;
+    let depth_clip = U.misc.y != 0u;
     var p: Point;
     var eye = vec4f(0.0);
     var w = 0.0;
     if PRETRANSFORMED {
         // core PointSetup::keeps_pretransformed (SPEC 3.1): RHW positive, or 0 or -0 drawn as
-        // RHW 1 under ZERO_RHW_DRAWN; depth range checked in screen space.
+        // RHW 1 under ZERO_RHW_DRAWN; under depth clipping 0 <= Z <= 1.
         p.x = pos.x;
         p.y = pos.y;
         p.z = pos.z;
@@ -454,7 +454,7 @@ fn point_stage(index: u32) -> Point {
         let rhw = bitcast<u32>(pos.w);
         let zero = (rhw & 0x7FFFFFFFu) == 0u;
         let kept = select(rhw < 0x80000000u, ZERO_RHW_DRAWN, zero);
-        if !kept || (clipping && !(U.depth.x <= p.z && p.z <= U.depth.y)) {
+        if !kept || (depth_clip && !(0.0 <= p.z && p.z <= 1.0)) {
             return dropped();
         }
         p.size = final_size(si, 0.0);
@@ -468,7 +468,7 @@ fn point_stage(index: u32) -> Point {
         if !finite4(c) || c.w <= 0.0 {
             return dropped(); // SPEC 3.1
         }
-        if clipping && !(0.0 <= c.z && c.z <= c.w) {
+        if depth_clip && !(0.0 <= c.z && c.z <= c.w) {
             return dropped(); // SPEC 3.1: z is all or nothing
         }
         // SPEC 2.2: Euclidean eye distance.
@@ -504,6 +504,8 @@ fn point_stage(index: u32) -> Point {
         p.specular = word(base + SPECULAR_AT);
     }
     p.fog = point_fog(eye.xyz, p.z, w, p.specular);
+    // core written_depth (SPEC 3.1): the depth tested and written is Z clamped to 0..1 (-0 kept).
+    p.z = select(select(p.z, 1.0, p.z > 1.0), 0.0, p.z < 0.0);
     if LIT {
         var normal = vec3f(0.0);
         if HAS_NORMAL {

@@ -71,7 +71,7 @@ impl Uniforms {
             pixel
                 .alpha_test
                 .map_or(0, |(_, reference)| u32::from(reference)),
-            u32::from(points.clipping()),
+            u32::from(points.depth_clip()),
             0,
             0,
         ]);

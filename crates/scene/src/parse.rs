@@ -428,6 +428,7 @@ impl Parser<'_> {
                 "max_point_size",
                 "per_vertex_point_size",
                 "clip_plane_scaled_points",
+                "clip_tl_verts",
                 "vertex_processing",
                 "w_fog",
                 "max_active_lights",
@@ -462,6 +463,9 @@ impl Parser<'_> {
         }
         if let Some(v) = f.get("clip_plane_scaled_points") {
             caps.clip_plane_scaled_points = boolean(src, v, &f.path("clip_plane_scaled_points"))?;
+        }
+        if let Some(v) = f.get("clip_tl_verts") {
+            caps.clip_tl_verts = boolean(src, v, &f.path("clip_tl_verts"))?;
         }
         if let Some(v) = f.get("w_fog") {
             caps.w_fog = boolean(src, v, &f.path("w_fog"))?;
