@@ -243,8 +243,8 @@ fn each_point_goes_to_the_tiles_its_square_covers_and_no_other() {
 fn behaviours_reach_every_path_of_a_draw() {
     // Size 0.4 at 9.5 covers nothing by default; minimum_size=one_pixel draws it as size 1,
     // pixel 9. The device, the counts, partial images and tiles all see the switch.
-    let x = [9.5f32, 9.5, 3.0];
-    let y = [2.5f32, 2.5, 7.0];
+    let x = [9.5f32, 9.5, 3.5];
+    let y = [2.5f32, 2.5, 7.5];
     let s = [0.4f32, 0.4, 0.25];
     let mut plot = Plot {
         clear: 0xFF00_0000,
