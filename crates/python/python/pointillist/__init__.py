@@ -149,9 +149,9 @@ def animate(path, out, *, frames=None, backend="cpu", behaviour=None):
     ffmpeg (``.mp4``), byte for byte what the command line writes. ``frames`` renders only the
     first ``frames`` frames. ``behaviour`` (a dict such as ``{"minimum_size": "one_pixel"}``)
     sets device behaviour switches over the scene's ``[behaviour]``, as ``--behaviour`` does.
-    The output (every file of a sequence) is written whole or not at
-    all: errors raise :class:`SceneError` with the command line's message, and Ctrl-C
-    (``KeyboardInterrupt``, checked between frames) leaves nothing behind."""
+    The output (every file of a sequence) is written whole or not at all: errors raise
+    :class:`SceneError` with the command line's message, and Ctrl-C (``KeyboardInterrupt``,
+    checked between frames) leaves nothing behind."""
     return _native.animate(
         str(path), str(out), frames=frames, backend=backend, behaviour=behaviour
     )
