@@ -388,7 +388,14 @@ impl std::str::FromStr for BehaviourSetting {
         let (name, option) = assignment
             .split_once('=')
             .ok_or_else(|| BehaviourError::Syntax(assignment.to_string()))?;
-        let (name, option) = (name.trim(), option.trim());
+        BehaviourSetting::new(name.trim(), option.trim())
+    }
+}
+
+impl BehaviourSetting {
+    /// Switch `name` set to `option`, both checked against [`BEHAVIOURS`] (exact names: a
+    /// `[behaviour]` key or a Python `behaviour={NAME: OPTION}`).
+    pub fn new(name: &str, option: &str) -> Result<Self, BehaviourError> {
         let def =
             BehaviourDef::find(name).ok_or_else(|| BehaviourError::UnknownSwitch(name.into()))?;
         let option = def.option_names().find(|o| *o == option).ok_or_else(|| {
@@ -528,6 +535,18 @@ mod tests {
             e.contains("unknown option `maybe` of behaviour `specular_fog`")
                 && e.contains("unclamped, clamped"),
             "{e}"
+        );
+        let e = BehaviourSetting::new("minimum_size", " one_pixel").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "unknown option ` one_pixel` of behaviour `minimum_size` (expected one of: none, one_pixel)"
+        );
+        assert_eq!(
+            BehaviourSetting::new("minimum_size", "one_pixel"),
+            Ok(BehaviourSetting {
+                name: "minimum_size",
+                option: "one_pixel"
+            })
         );
         let e = b.apply("specular_fog=\x1b[2J").unwrap_err().to_string();
         assert!(!e.contains('\x1b'), "{e}");

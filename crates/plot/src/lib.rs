@@ -40,6 +40,7 @@ pub mod tiles;
 use std::fmt;
 use std::sync::Arc;
 
+use pointillist_core::behaviour::Behaviours;
 use pointillist_core::color::argb_to_rgba8;
 use pointillist_core::device::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, MAX_TARGET_SIZE, RenderTarget, Viewport,
@@ -167,6 +168,9 @@ pub struct Plot {
     pub y_range: Option<DataRange>,
     /// A texture every point shows as a sprite (POINTSPRITEENABLE), modulated by its colour.
     pub texture: Option<Arc<Texture>>,
+    /// The device behaviour switches the draw runs with (SPEC "Device behaviours"): every
+    /// path (device, counts, partial images, tiles) draws with them.
+    pub behaviours: Behaviours,
 }
 
 impl Plot {
@@ -180,6 +184,7 @@ impl Plot {
             x_range: None,
             y_range: None,
             texture: None,
+            behaviours: Behaviours::default(),
         }
     }
 
@@ -263,6 +268,7 @@ impl Plot {
     pub fn device_state(&self, layout: &Layout) -> DeviceState {
         let desc = DeviceDesc::new(self.width, self.height);
         let mut state = DeviceState::new(desc.api, desc.caps, self.width, self.height);
+        state.behaviours = self.behaviours;
         for (s, v) in self.render_states(layout) {
             state.render_states[s.0 as usize] = v;
         }
@@ -362,6 +368,7 @@ impl Plot {
     ) -> Result<Device<B>, PlotError> {
         let desc = DeviceDesc {
             clear_color: self.clear,
+            behaviours: self.behaviours,
             ..DeviceDesc::new(width, height)
         };
         let mut device = Device::new(backend, desc)?;

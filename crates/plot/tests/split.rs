@@ -240,6 +240,67 @@ fn each_point_goes_to_the_tiles_its_square_covers_and_no_other() {
 }
 
 #[test]
+fn behaviours_reach_every_path_of_a_draw() {
+    // Size 0.4 at 9.5 covers nothing by default; minimum_size=one_pixel draws it as size 1,
+    // pixel 9. The device, the counts, partial images and tiles all see the switch.
+    let x = [9.5f32, 9.5, 3.5];
+    let y = [2.5f32, 2.5, 7.5];
+    let s = [0.4f32, 0.4, 0.25];
+    let mut plot = Plot {
+        clear: 0xFF00_0000,
+        ..Plot::new(20, 10)
+    };
+    let lit = |rgba: &[u8]| -> Vec<(usize, [u8; 4])> {
+        rgba.chunks_exact(4)
+            .enumerate()
+            .filter(|(_, p)| p[..3] != [0, 0, 0])
+            .map(|(i, p)| (i, p.try_into().unwrap()))
+            .collect()
+    };
+    for (option, expected) in [
+        ("none", vec![]),
+        (
+            "one_pixel",
+            vec![
+                (2 * 20 + 9, [0x20, 0x40, 0x60, 0xFF]),
+                (7 * 20 + 3, [0x10, 0x20, 0x30, 0xFF]),
+            ],
+        ),
+    ] {
+        plot.behaviours.set("minimum_size", option).unwrap();
+        let constant = Points {
+            size: Sizes::PerPoint(Column::F32(&s)),
+            color: Colors::Constant(0xFF10_2030),
+            ..Points::new(Column::F32(&x), Column::F32(&y))
+        };
+        // Counted: one colour, no depth.
+        assert!(plot.counts(&constant).unwrap().is_some());
+        assert_eq!(lit(&plot.render(&constant).unwrap()), expected, "{option}");
+        let mut device = vec![0u8; 20 * 10 * 4];
+        plot.render_on_device(&constant, &mut device).unwrap();
+        assert_eq!(lit(&device), expected, "{option} on the device");
+        let mut image = plot.partial().render(&constant).unwrap();
+        plot.finish(&mut image).unwrap();
+        assert_eq!(lit(&image), expected, "{option} partial");
+        let tiles = Tiles::new(20, 10, 8, 8).unwrap();
+        let bins = plot.bin(&constant, 0, &tiles).unwrap();
+        let mut tiled = vec![0u8; 20 * 10 * 4];
+        for (t, bin) in bins.iter().enumerate() {
+            let r = tiles.rect(t);
+            let tile = plot
+                .render_tile(&constant.layout(), &bin.vertices, r)
+                .unwrap();
+            let w = (r.x1 - r.x0) as usize * 4;
+            for (j, row) in tile.chunks_exact(w).enumerate() {
+                let o = ((r.y0 as usize + j) * 20 + r.x0 as usize) * 4;
+                tiled[o..o + w].copy_from_slice(row);
+            }
+        }
+        assert_eq!(lit(&tiled), expected, "{option} tiled");
+    }
+}
+
+#[test]
 fn partial_images_combine_to_the_full_draw_for_add_and_max() {
     // Big squares and bright colours so that additions saturate.
     let c = columns(4000, 5, 14.0);

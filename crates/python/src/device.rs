@@ -30,7 +30,9 @@ use crate::errors::{Error, device_error};
 /// "software"). State names are the D3D names with or without their prefix, in any case
 /// ("POINTSIZE" or "D3DRS_POINTSIZE"); values are numbers for float states, ``True``/``False``
 /// for BOOLs, names for enums ("SRCALPHA") and integers for masks and colours, as in a scene
-/// file (docs/spec/SCENE.md). The GIL is released while drawing.
+/// file (docs/spec/SCENE.md). ``behaviour`` sets device behaviour switches, a dict such as
+/// ``{"minimum_size": "one_pixel"}`` (``pointillist.behaviours()`` lists them; the defaults
+/// otherwise). The GIL is released while drawing.
 ///
 /// Example::
 ///
@@ -144,9 +146,10 @@ fn unknown(what: &str, name: &str) -> PyErr {
 impl PyDevice {
     #[new]
     #[pyo3(
-        signature = (width, height, backend=None, *, api=None, caps=None, clear=None),
-        text_signature = "(width, height, backend='cpu', *, api='d3d9', caps='reference', clear=0xFF000000)"
+        signature = (width, height, backend=None, *, api=None, caps=None, clear=None, behaviour=None),
+        text_signature = "(width, height, backend='cpu', *, api='d3d9', caps='reference', clear=0xFF000000, behaviour=None)"
     )]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         width: &Bound<'_, PyAny>,
         height: &Bound<'_, PyAny>,
@@ -154,6 +157,7 @@ impl PyDevice {
         api: Option<&Bound<'_, PyAny>>,
         caps: Option<&Bound<'_, PyAny>>,
         clear: Option<&Bound<'_, PyAny>>,
+        behaviour: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let (width, height) = crate::arrays::target_size(width, height)?;
         let api: String = api.map_or(Ok("d3d9".into()), |a| arg("api", a, "a string"))?;
@@ -177,6 +181,7 @@ impl PyDevice {
             api,
             caps,
             clear_color: clear.map_or(Ok(0xFF00_0000), |c| d3dcolor("clear", c))?,
+            behaviours: crate::behaviour::behaviours(behaviour)?,
             ..DeviceDesc::new(width, height)
         };
         let backend = backend.map_or(Ok("cpu".into()), crate::backend::name)?;
@@ -193,6 +198,13 @@ impl PyDevice {
         let d = self.lock(py)?;
         let s = d.state();
         Ok((s.target_width, s.target_height))
+    }
+
+    /// The device behaviour switches it was created with: every switch's option, by name.
+    #[getter]
+    fn behaviour<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let behaviours = self.lock(py)?.state().behaviours;
+        crate::behaviour::as_dict(py, &behaviours)
     }
 
     /// SetRenderState: ``name`` a D3DRS_* name, ``value`` as its kind says (see the class).

@@ -1,13 +1,14 @@
 //! `pointillist._native`: the native module of the `pointillist` Python package.
 //!
 //! The public API is `pointillist.points`, `pointillist.Device`, `pointillist.render_scene`,
-//! `pointillist.animate` and `pointillist.dask.points`; the functions whose names start with
-//! an underscore are the steps `pointillist.dask` runs on the workers. Everything is drawn by
-//! `pointillist-plot` and `pointillist-core`'s device; this crate only turns Python arguments
-//! into their types and their errors into exceptions.
+//! `pointillist.animate`, `pointillist.behaviours` and `pointillist.dask.points`; the functions
+//! whose names start with an underscore are the steps `pointillist.dask` runs on the workers.
+//! Everything is drawn by `pointillist-plot` and `pointillist-core`'s device; this crate only
+//! turns Python arguments into their types and their errors into exceptions.
 
 mod arrays;
 mod backend;
+mod behaviour;
 mod device;
 mod errors;
 mod interrupt;
@@ -87,9 +88,11 @@ fn plot(
     y_range: Option<&Bound<'_, PyAny>>,
     clear: &Bound<'_, PyAny>,
     texture: Option<&Bound<'_, PyAny>>,
+    behaviour: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Plot> {
     let (width, height) = arrays::target_size(width, height)?;
     Ok(Plot {
+        behaviours: behaviour::behaviours(behaviour)?,
         width,
         height,
         blend: blend_arg(blend)?,
@@ -148,7 +151,7 @@ impl<'py> Held<'py> {
 
 /// Draws points from numpy arrays; see `pointillist.points` for the full description.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, clear, texture, backend))]
+#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, clear, texture, backend, behaviour=None))]
 #[allow(clippy::too_many_arguments)]
 fn points<'py>(
     py: Python<'py>,
@@ -165,8 +168,11 @@ fn points<'py>(
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
     backend: &Bound<'py, PyAny>,
+    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let plot = plot(
+        width, height, blend, x_range, y_range, clear, texture, behaviour,
+    )?;
     let backend = backend::name(backend)?;
     let held = Held::new(x, y, z, size, color)?;
     let points = held.points();
@@ -189,7 +195,7 @@ fn points<'py>(
 /// The partial image of one part of a draw whose blend commutes: the points drawn onto a
 /// zero target (`Plot::partial`).
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, texture, threads=None))]
+#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, texture, threads=None, behaviour=None))]
 #[allow(clippy::too_many_arguments)]
 fn _partial<'py>(
     py: Python<'py>,
@@ -204,10 +210,13 @@ fn _partial<'py>(
     y_range: Option<&Bound<'py, PyAny>>,
     texture: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let pool = pool(threads)?;
     let zero = 0u32.into_pyobject(py)?.into_any();
-    let plot = plot(width, height, blend, x_range, y_range, &zero, texture)?;
+    let plot = plot(
+        width, height, blend, x_range, y_range, &zero, texture, behaviour,
+    )?;
     let (width, height) = (plot.width, plot.height);
     if !plot.blend.commutes() {
         return Err(PyValueError::new_err(format!(
@@ -262,7 +271,7 @@ fn on<T: Send>(pool: &Option<Arc<rayon::ThreadPool>>, f: impl FnOnce() -> T + Se
 /// on a pool of that many threads (a Dask worker's own number of threads) instead of rayon's
 /// global pool of one thread a core.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture, out=None, threads=None))]
+#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture, out=None, threads=None, behaviour=None))]
 #[allow(clippy::too_many_arguments)]
 fn _counts<'py>(
     py: Python<'py>,
@@ -279,9 +288,12 @@ fn _counts<'py>(
     texture: Option<&Bound<'py, PyAny>>,
     out: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
     let pool = pool(threads)?;
-    let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let plot = plot(
+        width, height, blend, x_range, y_range, clear, texture, behaviour,
+    )?;
     let (width, height) = (plot.width, plot.height);
     let held = Held::new(x, y, None, size, color)?;
     let points = held.points();
@@ -342,7 +354,7 @@ fn _add_counts(dst: &Bound<'_, PyAny>, src: &Bound<'_, PyAny>) -> PyResult<()> {
 /// The image of a counted draw from its counts (`Plot::from_counts`); `x`, `y` and a size
 /// column may be empty: they give the layout.
 #[pyfunction]
-#[pyo3(signature = (counts, x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture))]
+#[pyo3(signature = (counts, x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture, behaviour=None))]
 #[allow(clippy::too_many_arguments)]
 fn _from_counts<'py>(
     py: Python<'py>,
@@ -358,8 +370,11 @@ fn _from_counts<'py>(
     y_range: Option<&Bound<'py, PyAny>>,
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
+    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let plot = plot(width, height, blend, x_range, y_range, clear, texture)?;
+    let plot = plot(
+        width, height, blend, x_range, y_range, clear, texture, behaviour,
+    )?;
     let (width, height) = (plot.width, plot.height);
     let held = Held::new(x, y, None, size, color)?;
     let counts = count_array("counts", counts)?;
@@ -456,7 +471,7 @@ type TileArrays<'py> = (Bound<'py, PyAny>, Bound<'py, PyArray1<u64>>);
 /// squares overlap (`Plot::bin`): a list with one `(vertices, index)` pair of arrays per
 /// tile, `vertices` `(k, words)` uint32 (one row a vertex), `index` `(k,)` uint64.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, first_index, tile_width, tile_height))]
+#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, first_index, tile_width, tile_height, behaviour=None))]
 #[allow(clippy::too_many_arguments)]
 fn _bin<'py>(
     py: Python<'py>,
@@ -473,9 +488,12 @@ fn _bin<'py>(
     first_index: u64,
     tile_width: u32,
     tile_height: u32,
+    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Vec<TileArrays<'py>>> {
     let zero = 0u32.into_pyobject(py)?.into_any();
-    let plot = plot(width, height, blend, x_range, y_range, &zero, None)?;
+    let plot = plot(
+        width, height, blend, x_range, y_range, &zero, None, behaviour,
+    )?;
     let (width, height) = (plot.width, plot.height);
     let tiles = Tiles::new(width, height, tile_width, tile_height).map_err(plot_error)?;
     let held = Held::new(x, y, z, size, color)?;
@@ -497,7 +515,7 @@ fn _bin<'py>(
 /// words of the layout that `depth` and `size` give, in index order) on a target cleared to
 /// `clear` whose viewport is `rect`; returns the tile's `(h, w, 4)` RGBA.
 #[pyfunction]
-#[pyo3(signature = (vertices, rect, *, size, depth, width, height, blend, clear, texture))]
+#[pyo3(signature = (vertices, rect, *, size, depth, width, height, blend, clear, texture, behaviour=None))]
 #[allow(clippy::too_many_arguments)]
 fn _render_tile<'py>(
     py: Python<'py>,
@@ -510,8 +528,9 @@ fn _render_tile<'py>(
     blend: &Bound<'py, PyAny>,
     clear: &Bound<'py, PyAny>,
     texture: Option<&Bound<'py, PyAny>>,
+    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let plot = plot(width, height, blend, None, None, clear, texture)?;
+    let plot = plot(width, height, blend, None, None, clear, texture, behaviour)?;
     let layout = Layout { depth, size };
     let words: numpy::PyReadonlyArrayDyn<'_, u32> = match arrays::in_place(vertices)? {
         Some(a) => a,
@@ -580,6 +599,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::render_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::animate, m)?)?;
     m.add_function(wrap_pyfunction!(lanes, m)?)?;
+    m.add_function(wrap_pyfunction!(behaviour::behaviours_table, m)?)?;
     m.add_function(wrap_pyfunction!(_partial, m)?)?;
     m.add_function(wrap_pyfunction!(_combine, m)?)?;
     m.add_function(wrap_pyfunction!(_counts, m)?)?;

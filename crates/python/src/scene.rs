@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use pointillist_animation::{Observer, Request};
-use pointillist_core::device::Device;
+use pointillist_core::device::{Device, DeviceDesc};
 use pyo3::exceptions::PyUserWarning;
 use pyo3::prelude::*;
 
@@ -15,16 +15,20 @@ use crate::errors::SceneError;
 /// 4)`` uint8 RGBA array: the bytes ``pointillist render SCENE -o OUT.png`` writes. A scene
 /// with particle emitters or an ``[animation]`` renders ``frame`` (0 when ``None``): the
 /// particles simulated to ``warmup + frame / fps`` seconds, the camera at ``frame / fps``.
+/// ``behaviour`` (a dict such as ``{"minimum_size": "one_pixel"}``) sets device behaviour
+/// switches over the scene's ``[behaviour]`` table, as ``--behaviour NAME=OPTION`` does.
 /// Errors raise ``pointillist.SceneError`` with the CLI's message (file, line, column, key).
 #[pyfunction]
-#[pyo3(signature = (path, frame=None, *, backend=None), text_signature = "(path, frame=None, *, backend='cpu')")]
+#[pyo3(signature = (path, frame=None, *, backend=None, behaviour=None), text_signature = "(path, frame=None, *, backend='cpu', behaviour=None)")]
 pub fn render_scene<'py>(
     py: Python<'py>,
     path: &Bound<'py, PyAny>,
     frame: Option<&Bound<'py, PyAny>>,
     backend: Option<&Bound<'py, PyAny>>,
+    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let path: PathBuf = arg("path", path, "a path (str or os.PathLike)")?;
+    let settings = crate::behaviour::settings(behaviour)?;
     let frame: Option<u32> = frame
         .map(|f| integer("frame", f, 0, u32::MAX.into()))
         .transpose()?;
@@ -33,7 +37,13 @@ pub fn render_scene<'py>(
     let (rgba, width, height) = crate::interrupt::detach(py, || -> Result<_, String> {
         let scene = pointillist_scene::load(&path).map_err(|e| e.to_string())?;
         let name = path.display();
-        let mut device = Device::new(backend, scene.device_desc())
+        // The scene's [behaviour] with the argument's over it, as `pointillist render` merges
+        // `--behaviour`.
+        let desc = DeviceDesc {
+            behaviours: scene.behaviours.with(&settings),
+            ..scene.device_desc()
+        };
+        let mut device = Device::new(backend, desc)
             .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
         if scene.is_animated() || frame.is_some() {
             let frame = frame.unwrap_or(0);
@@ -91,16 +101,18 @@ impl Observer for Session {
 
 /// Renders every frame of a scene's ``[animation]`` into ``out`` as ``pointillist animate
 /// SCENE -o OUT [--frames N]`` does, with the same bytes. The GIL is released while frames
-/// render. Errors raise ``pointillist.SceneError`` with the CLI's one-line message, and leave
-/// no file (nor part of one) behind; warnings go to ``warnings.warn``.
+/// render. ``behaviour`` sets device behaviour switches over the scene's ``[behaviour]``, as
+/// ``--behaviour`` does. Errors raise ``pointillist.SceneError`` with the CLI's one-line
+/// message, and leave no file (nor part of one) behind; warnings go to ``warnings.warn``.
 #[pyfunction]
-#[pyo3(signature = (path, out, *, frames=None, backend=None), text_signature = "(path, out, *, frames=None, backend='cpu')")]
+#[pyo3(signature = (path, out, *, frames=None, backend=None, behaviour=None), text_signature = "(path, out, *, frames=None, backend='cpu', behaviour=None)")]
 pub fn animate(
     py: Python<'_>,
     path: PathBuf,
     out: PathBuf,
     frames: Option<&Bound<'_, PyAny>>,
     backend: Option<&Bound<'_, PyAny>>,
+    behaviour: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
     let frames: Option<u32> = frames
         .map(|f| integer("frames", f, 1, u32::MAX.into()))
@@ -113,7 +125,7 @@ pub fn animate(
         format: None,
         frames,
         compression: pointillist_image::png::Compression::Fast,
-        behaviours: Vec::new(),
+        behaviours: crate::behaviour::settings(behaviour)?,
     };
     let mut session = Session::default();
     let result = crate::interrupt::detach(py, || {

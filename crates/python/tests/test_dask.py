@@ -101,6 +101,35 @@ def test_constant_size_colour_and_texture(client):
         assert np.array_equal(got, want), blend
 
 
+@pytest.mark.parametrize(
+    "kind,persist",
+    [("counted", True), ("counted", False), ("partial", True), ("partial", False),
+     ("tiles", False), ("depth tiles", False)],
+)
+def test_behaviours_reach_every_partition_and_tile(client, kind, persist):
+    # Sizes below one pixel: most squares cover no pixel centre and draw nothing by default;
+    # minimum_size=one_pixel draws every one as size 1. The counts, the partial images and
+    # the tiles (including which tiles a point is sent to) all draw with the switch.
+    pdf, df = frame(3_000, 8, 5)
+    pdf["s"] = np.random.default_rng(9).uniform(0.0, 0.9, len(pdf)).astype(np.float32)
+    df = dd.from_pandas(pdf, npartitions=5, sort=False)
+    if persist:
+        df = df.persist()
+    kw = dict(
+        width=W, height=H, x_range=(0, 1), y_range=(0, 1), clear=0xFF102030, size="s",
+        color=0x20406080 if kind == "counted" else "c",
+        blend={"counted": "add", "partial": "max"}.get(kind, "alpha"),
+        z="z" if kind == "depth tiles" else None, tile_size=(23, 17),
+    )
+    got, want = both(pdf, df, client, behaviour={"minimum_size": "one_pixel"}, **dict(kw))
+    assert np.array_equal(got, want)
+    got_default, default = both(pdf, df, client, **dict(kw))
+    assert np.array_equal(got_default, default)
+    # The switch changed many pixels: more of them are drawn.
+    drawn = lambda img: int((img != [0x10, 0x20, 0x30, 0xFF]).any(axis=2).sum())  # noqa: E731
+    assert drawn(want) > drawn(default) + 500, (drawn(want), drawn(default))
+
+
 def test_errors_name_the_argument(client):
     pdf, df = frame(100, 4, 2)
     with pytest.raises(ValueError, match=r"column 'w' is not in the DataFrame"):
@@ -109,6 +138,11 @@ def test_errors_name_the_argument(client):
         pointillist.dask.points(df, width=8, height=8, blend="over", client=client)
     with pytest.raises(ValueError, match="x_range"):
         pointillist.dask.points(df, width=8, height=8, x_range=(1, 0), client=client)
+    with pytest.raises(ValueError) as info:
+        pointillist.dask.points(df, width=8, height=8, behaviour={"size": "1"}, client=client)
+    assert str(info.value).startswith("behaviour: unknown behaviour `size` (expected one of: ")
+    with pytest.raises(TypeError, match=r"^behaviour must be a dict"):
+        pointillist.dask.points(df, width=8, height=8, behaviour=[1], client=client)
     # Sizes no target has: the device's one line, before any image is allocated (2**30 x 16
     # aborted the interpreter; -1 was an OverflowError naming nothing).
     for w, h in [(2**30, 16), (-1, 8)]:

@@ -10,7 +10,9 @@ the CPU (or the GPU), with no Direct3D and no display:
 - :func:`render_scene` and :func:`animate` draw scene files (docs/spec/SCENE.md) as the
   ``pointillist`` command line does;
 - :mod:`pointillist.dask` draws a Dask DataFrame on a cluster, bit for bit as :func:`points`
-  draws all its rows at once.
+  draws all its rows at once;
+- :func:`behaviours` lists the device behaviour switches (where real D3D9 devices differ),
+  which every one of them takes as ``behaviour={"minimum_size": "one_pixel", ...}``.
 
 Example::
 
@@ -35,6 +37,7 @@ __all__ = [
     "Image",
     "SceneError",
     "animate",
+    "behaviours",
     "lanes",
     "points",
     "render_scene",
@@ -56,6 +59,7 @@ def points(
     clear=0xFF000000,
     texture=None,
     backend="cpu",
+    behaviour=None,
 ):
     """Draw one point sprite per row of ``x, y`` and return the image.
 
@@ -96,6 +100,9 @@ def points(
         the point's colour and alpha, filtered linearly, clamped at its edges.
     backend : {"cpu", "gpu"}
         "cpu" is the reference; "gpu" draws with wgpu where the build has it.
+    behaviour : dict or None
+        Device behaviour switches, ``{name: option}`` (:func:`behaviours` lists them; the
+        defaults otherwise). ``{"minimum_size": "one_pixel"}`` draws sizes below 1 as 1.
 
     Returns
     -------
@@ -107,7 +114,8 @@ def points(
     ------
     ValueError, TypeError
         For mismatched lengths, NaN positions, depths or sizes (naming the first row), arrays
-        of the wrong dimension or dtype, bad ranges, unknown blends.
+        of the wrong dimension or dtype, bad ranges, unknown blends, unknown behaviour
+        switches or options.
     pointillist.Error
         When the device refuses the target (its size).
 
@@ -127,18 +135,34 @@ def points(
         clear=clear,
         texture=texture,
         backend=backend,
+        behaviour=behaviour,
     )
 
 
 render_scene = _native.render_scene
 
 
-def animate(path, out, *, frames=None, backend="cpu"):
+def animate(path, out, *, frames=None, backend="cpu", behaviour=None):
     """Render every frame of a scene's ``[animation]`` to ``out``, as ``pointillist animate``
     does: an animated GIF (``.gif``), an APNG of the exact RGBA bytes (``.png``/``.apng``), a
     numbered PNG sequence (a name with ``%d``, e.g. ``frames/f_%04d.png``) or H.264 through
     ffmpeg (``.mp4``), byte for byte what the command line writes. ``frames`` renders only the
-    first ``frames`` frames. The output (every file of a sequence) is written whole or not at
-    all: errors raise :class:`SceneError` with the command line's message, and Ctrl-C
-    (``KeyboardInterrupt``, checked between frames) leaves nothing behind."""
-    return _native.animate(str(path), str(out), frames=frames, backend=backend)
+    first ``frames`` frames. ``behaviour`` (a dict such as ``{"minimum_size": "one_pixel"}``)
+    sets device behaviour switches over the scene's ``[behaviour]``, as ``--behaviour`` does.
+    The output (every file of a sequence) is written whole or not at all: errors raise
+    :class:`SceneError` with the command line's message, and Ctrl-C (``KeyboardInterrupt``,
+    checked between frames) leaves nothing behind."""
+    return _native.animate(
+        str(path), str(out), frames=frames, backend=backend, behaviour=behaviour
+    )
+
+
+def behaviours():
+    """The device behaviour switches: rules on which real D3D9 devices differ, or no record
+    decides (docs/spec/SPEC.md, "Device behaviours"), as ``pointillist behaviours --json``
+    lists them. A list of dicts, one a switch, with ``name``, ``options`` (their names),
+    ``default``, ``evidence`` (the grade of the default's evidence), ``sources``, ``summary``,
+    ``rule`` (the SPEC rule) and ``option_effects`` (what each option draws). Set them with
+    ``behaviour={name: option}`` on :func:`points`, :class:`Device`, :func:`render_scene`,
+    :func:`animate` and :func:`pointillist.dask.points`."""
+    return _native.behaviours_table()

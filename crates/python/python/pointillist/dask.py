@@ -79,6 +79,7 @@ def points(
     tile_size=256,
     split_every=8,
     client=None,
+    behaviour=None,
 ):
     """Draw the rows of Dask DataFrame ``df`` on a ``dask.distributed`` cluster, exactly.
 
@@ -98,8 +99,9 @@ def points(
         A column of uint32 D3DCOLORs (0xAARRGGBB), or one D3DCOLOR.
     z : str or None
         A column of depths in 0..1: the depth test is on (and the tile strategy is used).
-    width, height, blend, x_range, y_range, clear, texture
-        As in :func:`pointillist.points`.
+    width, height, blend, x_range, y_range, clear, texture, behaviour
+        As in :func:`pointillist.points`; every partition and tile draws with the same
+        device behaviour switches.
     tile_size : int or (int, int)
         The side of the screen tiles of the order-dependent strategy, in pixels.
     split_every : int
@@ -141,10 +143,13 @@ def points(
         "size": None if "size" in columns else size,
         "color": None if "color" in columns else color,
     }
-    common = dict(width=width, height=height, blend=blend, x_range=x_range, y_range=y_range)
-    # Checks the scalar arguments (clear, ranges, texture, size, color) here, before any task,
-    # with an empty draw on a 1x1 target (one of the full size costs milliseconds); the
-    # full size only when it is out of range, to raise the device's error.
+    common = dict(
+        width=width, height=height, blend=blend, x_range=x_range, y_range=y_range,
+        behaviour=behaviour,
+    )
+    # Checks the scalar arguments (clear, ranges, texture, size, color, behaviour) here,
+    # before any task, with an empty draw on a 1x1 target (one of the full size costs
+    # milliseconds); the full size only when it is out of range, to raise the device's error.
     check = functools.partial(
         _native.points,
         numpy.zeros(0, numpy.float32),
