@@ -646,6 +646,9 @@ fn behaviours_lists_every_switch_as_text_and_json() {
         "\"sources\": [",
         "\"name\": \"minimum_size\"",
         "\"evidence\": \"hardware\"",
+        "\"name\": \"point_size_max_default\"",
+        "\"default\": \"sixty_four\"",
+        "\"evidence\": \"documented\"",
     ] {
         assert!(text.contains(needle), "lacks {needle}:\n{text}");
     }
@@ -654,6 +657,8 @@ fn behaviours_lists_every_switch_as_text_and_json() {
     let text = stdout(&out);
     assert!(text.contains("fog_without_specular (SPEC 9.2)"), "{text}");
     assert!(text.contains("  fogged (default): "), "{text}");
+    assert!(text.contains("point_size_max_default (SPEC 2.6)"), "{text}");
+    assert!(text.contains("  sixty_four (default): 64.0"), "{text}");
 }
 
 /// `render --behaviour`: an over-bright specular sum fogged unclamped by default, clamped with

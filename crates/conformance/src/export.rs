@@ -300,10 +300,13 @@ fn light_call(index: u32, l: &Light) -> Call {
 /// Writes the scene's own calls literally; `view` replaces every VIEW the scene sets.
 fn write_steps(rec: &mut Recorder, scene: &Scene, view: Option<Mat4>) {
     if scene.api != Api::D3d9 {
+        // Only the API's defaults are written: a behaviour's default (POINTSIZE_MAX) is the
+        // device's own, what the kit classifies.
+        let (b, max) = (&scene.behaviours, scene.caps.max_point_size);
         for &s in RenderState::all() {
             let (ours, d3d9) = (
-                s.default_value(scene.api, scene.caps.max_point_size),
-                s.default_value(Api::D3d9, scene.caps.max_point_size),
+                s.default_value(scene.api, b, max),
+                s.default_value(Api::D3d9, b, max),
             );
             if ours != d3d9 {
                 rec.writer.call(&Call::RenderState {

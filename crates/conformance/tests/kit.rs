@@ -494,6 +494,56 @@ fn a_device_taking_another_behaviour_option_is_classified() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// SPEC 2.6: case `2-size/default_max_is_64` on a device (MaxPointSize 255, as Wine's) whose
+/// POINTSIZE_MAX defaults to its MaxPointSize draws the 101-pixel point unclamped: the kit
+/// classifies it as `option` with `point_size_max_default = max_point_size`.
+#[test]
+fn a_device_defaulting_pointsize_max_to_its_caps_is_classified() {
+    const DEVICE: &str = "format=1\ndescription=Test Adapter 255\ndriver=test.dll\n\
+        max_point_size=255\nfvfcaps_psize=1\nclip_plane_scaled_points=1\nmax_active_lights=8\n";
+    let dir = temp("pointsize-max");
+    let scenes = dir.join("scenes");
+    fs::create_dir_all(&scenes).unwrap();
+    let case = repo().join("crates/conformance/cases/2-size/default_max_is_64.toml");
+    fs::copy(&case, scenes.join("default_max_is_64.toml")).unwrap();
+    let caps_dir = dir.join("captures");
+    fs::create_dir_all(&caps_dir).unwrap();
+    fs::write(caps_dir.join("device.txt"), DEVICE).unwrap();
+    let device = DeviceInfo::parse(DEVICE, Path::new("device.txt")).unwrap();
+    let scene = pointillist_scene::load(&scenes.join("default_max_is_64.toml")).unwrap();
+    let mut caps_max = pointillist_core::Behaviours::default();
+    caps_max
+        .set("point_size_max_default", "max_point_size")
+        .unwrap();
+    let caps = device_caps(&device, &scene.caps);
+    let theirs = render(&scene, caps, caps_max).unwrap();
+    let ours = render(&scene, caps, Default::default()).unwrap();
+    assert_ne!(theirs, ours, "101 pixels against 64");
+    write_png(&caps_dir.join("default_max_is_64.png"), &theirs);
+    fs::write(caps_dir.join("results.txt"), "default_max_is_64\tok\n").unwrap();
+    let expect = dir.join("expect.toml");
+    fs::write(
+        &expect,
+        "[behaviour]\npoint_size_max_default = \"max_point_size\"\n",
+    )
+    .unwrap();
+    let summary = conform(&Options {
+        paths: vec![scenes.clone()],
+        runner: Runner::Captures(caps_dir.clone()),
+        report: dir.join("report"),
+        expect: Some(expect),
+        behaviours: Vec::new(),
+    })
+    .unwrap();
+    assert_eq!(summary.counts, [0, 1, 0, 0]);
+    assert!(summary.unexpected.is_empty(), "{:?}", summary.unexpected);
+    assert_eq!(
+        summary.behaviours["point_size_max_default"],
+        Some("max_point_size")
+    );
+    let _ = fs::remove_dir_all(&dir);
+}
+
 /// A replayer that dies in a case: the case fails with that said, and the cases after it are
 /// replayed by a second start.
 #[test]

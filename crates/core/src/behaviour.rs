@@ -140,7 +140,7 @@ switches! {
         Dropped,
     }
     /// SPEC 3.1: which points are clipped by depth, and when D3DRS_CLIPPING decides.
-    depth_clip = 5, DepthClip {
+    depth_clip = 6, DepthClip {
         /// As Windows drivers: under hardware vertex processing CLIPPING is ignored, transformed
         /// points are always depth-clipped and pre-transformed ones only with CLIPTLVERTS and
         /// ZENABLE; under software vertex processing CLIPPING decides for both.
@@ -157,10 +157,27 @@ switches! {
         /// Sizes below 1 draw as 1: every point covers at least one pixel.
         OnePixel,
     }
+    /// SPEC 2.6: the value POINTSIZE_MAX holds on a new device (and after a state reset).
+    point_size_max_default = 5, PointSizeMaxDefault {
+        /// 64.0, whatever the caps say (the clamp to `max_point_size` still applies).
+        SixtyFour,
+        /// The `max_point_size` the pipeline applies (`Caps::effective`).
+        MaxPointSize,
+    }
+}
+
+impl PointSizeMaxDefault {
+    /// The default POINTSIZE_MAX on a device whose effective `max_point_size` is given.
+    pub fn value(self, max_point_size: f32) -> f32 {
+        match self {
+            PointSizeMaxDefault::SixtyFour => 64.0,
+            PointSizeMaxDefault::MaxPointSize => max_point_size,
+        }
+    }
 }
 
 /// Every switch; the index of each is the one its accessor on [`Behaviours`] reads.
-pub const BEHAVIOURS: [BehaviourDef; 6] = [
+pub const BEHAVIOURS: [BehaviourDef; 7] = [
     BehaviourDef {
         name: "specular_fog",
         summary: "fog of a diffuse + specular sum above 1 (SPECULARENABLE and FOGENABLE)",
@@ -254,6 +271,28 @@ pub const BEHAVIOURS: [BehaviourDef; 6] = [
         sources: &[
             "Wine dlls/d3d9/tests/visual.c, test_table_fog_zw: XYZRHW quads with RHW 0 are drawn on Windows drivers",
             "Wine dlls/wined3d/ffp_hlsl.c and DXVK 2.6.2 d3d9_fixed_function.cpp draw RHW 0 as RHW 1",
+        ],
+    },
+    BehaviourDef {
+        name: "point_size_max_default",
+        summary: "the value of POINTSIZE_MAX on a new device, before the program sets it",
+        rule: "SPEC 2.6",
+        options: &[
+            (
+                "sixty_four",
+                "64.0: a point larger than 64 pixels draws at 64 until POINTSIZE_MAX is set",
+            ),
+            (
+                "max_point_size",
+                "the device's max_point_size: only the caps bound the size",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Documented,
+        sources: &[
+            "Microsoft D3DRENDERSTATETYPE (Direct3D 9), D3DRS_POINTSIZE_MAX: \"The default value is 64.0\"; Managed DirectX RenderStateManager.PointSizeMax and XNA RenderState.PointSizeMax: 64.0f",
+            "Wine dlls/d3d9/tests/visual.c, test_pointsize: reads the default back without checking it, \"pointsize_max = default(usually 64.0)\"; no Windows record of a point above 64 drawn under the default",
+            "Wine dlls/wined3d/stateblock.c, init_default_render_states, and DXVK src/d3d9/d3d9_device.cpp, ResetState: the device's largest point size",
         ],
     },
     BehaviourDef {

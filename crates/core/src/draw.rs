@@ -6,7 +6,7 @@
 //! [`Backend::draw_points`](crate::device::Backend::draw_points); backends and tests read these
 //! instead of resolving the states again, so every user of a rule reads one definition.
 
-use crate::behaviour::{BehaviourSet, DepthClip};
+use crate::behaviour::{BehaviourSet, DepthClip, PointSizeMaxDefault};
 use crate::fog::FogSource;
 use crate::fvf::Fvf;
 use crate::pixel::{BlendClass, PixelSetup};
@@ -46,7 +46,8 @@ impl<'a> DrawSetup<'a> {
     /// `specular_fog` for a specular add under fog, `fog_without_specular` for a draw without
     /// SPECULAR whose fog factor is the specular alpha, `fog_start_equals_end` for LINEAR fog
     /// with FOGSTART == FOGEND, `zero_rhw` for pre-transformed vertices, `minimum_size` where
-    /// the clamp allows sizes below one pixel.
+    /// the clamp allows sizes below one pixel, `point_size_max_default` where POINTSIZE_MAX
+    /// still holds this device's default and the two options' defaults differ.
     pub fn behaviours_read(&self) -> BehaviourSet {
         let rs = |s: RenderState| self.state.render_state(s);
         let f = |s| f32::from_bits(rs(s));
@@ -94,6 +95,19 @@ impl<'a> DrawSetup<'a> {
         if !self.points.is_single_pixel() && (lo.is_nan() || lo < 1.0 || hi < 1.0) {
             set.insert("minimum_size");
         }
+        // The two defaults of POINTSIZE_MAX bound the size alike when the caps' limit is at most
+        // 64 (hi = min(max_point_size, POINTSIZE_MAX)).
+        let max_point_size = self.state.caps.effective().max_point_size;
+        let default_max = |o: PointSizeMaxDefault| o.value(max_point_size);
+        let hi_under = |o| clamp_bounds(lo, default_max(o), max_point_size).1;
+        let own = default_max(self.state.behaviours.point_size_max_default());
+        if !self.points.is_single_pixel()
+            && rs(RenderState::POINTSIZE_MAX) == own.to_bits()
+            && hi_under(PointSizeMaxDefault::SixtyFour)
+                != hi_under(PointSizeMaxDefault::MaxPointSize)
+        {
+            set.insert("point_size_max_default");
+        }
         set
     }
 }
@@ -101,11 +115,26 @@ impl<'a> DrawSetup<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::behaviour::Behaviours;
     use crate::caps::Caps;
     use crate::states::Api;
 
+    /// The switches a draw reads; POINTSIZE_MAX is set (to 100) unless `states` sets it, so
+    /// that only the tests of `point_size_max_default` see its default.
     fn read(states: &[(RenderState, u32)], fvf: Fvf) -> Vec<&'static str> {
-        let mut s = DeviceState::new(Api::D3d9, Caps::reference(), 8, 8);
+        read_with(Behaviours::default(), Caps::reference(), states, fvf)
+    }
+
+    fn read_with(
+        b: Behaviours,
+        caps: Caps,
+        states: &[(RenderState, u32)],
+        fvf: Fvf,
+    ) -> Vec<&'static str> {
+        let mut s = DeviceState::with_behaviours(Api::D3d9, caps, b, 8, 8);
+        if !states.iter().any(|(k, _)| *k == RenderState::POINTSIZE_MAX) {
+            s.render_states[RenderState::POINTSIZE_MAX.0 as usize] = 100.0f32.to_bits();
+        }
         for &(k, v) in states {
             s.render_states[k.0 as usize] = v;
         }
@@ -158,6 +187,42 @@ mod tests {
         assert!(
             read(&[zenable_off], xyz_ds).is_empty(),
             "transformed points are clipped under every option"
+        );
+    }
+
+    /// `point_size_max_default` is read while POINTSIZE_MAX holds the device's default and the
+    /// two defaults (64 and the caps' limit) bound sizes differently.
+    #[test]
+    fn the_pointsize_max_default_is_read_while_it_is_in_force() {
+        let xyz = Fvf::XYZ;
+        let max = |v: f32| (RenderState::POINTSIZE_MAX, v.to_bits());
+        let caps_max =
+            Behaviours::default().with(&["point_size_max_default=max_point_size".parse().unwrap()]);
+        let reference = Caps::reference();
+        let name = ["point_size_max_default"];
+        // The default 64 on an 8192 device, under either option its own default.
+        assert_eq!(
+            read_with(Behaviours::default(), reference, &[max(64.0)], xyz),
+            name
+        );
+        assert_eq!(read_with(caps_max, reference, &[max(8192.0)], xyz), name);
+        // Another value is the program's: no option changes it.
+        assert!(read_with(Behaviours::default(), reference, &[max(8192.0)], xyz).is_empty());
+        assert!(read_with(caps_max, reference, &[max(64.0)], xyz).is_empty());
+        // Caps at most 64 bound the size alike under both defaults; one-pixel devices too.
+        for limit in [64.0f32, 9.0, 1.0] {
+            let caps = Caps {
+                max_point_size: limit,
+                ..reference
+            };
+            assert!(read_with(Behaviours::default(), caps, &[max(64.0)], xyz).is_empty());
+            assert!(read_with(caps_max, caps, &[max(limit)], xyz).is_empty());
+        }
+        // Software vertex processing: the emulator's 8192, not the device's 1.
+        let software = Caps::profile("software").unwrap();
+        assert_eq!(
+            read_with(Behaviours::default(), software, &[max(64.0)], xyz),
+            name
         );
     }
 }

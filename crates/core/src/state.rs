@@ -85,14 +85,27 @@ pub struct DeviceState {
 }
 
 impl DeviceState {
-    /// The state of a freshly created device (SPEC 2.6 defaults).
+    /// The state of a freshly created device with the default behaviours (SPEC 2.6 defaults).
     pub fn new(api: Api, caps: Caps, width: u32, height: u32) -> DeviceState {
+        DeviceState::with_behaviours(api, caps, Behaviours::default(), width, height)
+    }
+
+    /// The state of a freshly created device that emulates `behaviours`: its defaults follow
+    /// them (SPEC 2.6, `point_size_max_default`).
+    pub fn with_behaviours(
+        api: Api,
+        caps: Caps,
+        behaviours: Behaviours,
+        width: u32,
+        height: u32,
+    ) -> DeviceState {
         let mut render_states = [0u32; RenderState::COUNT];
-        // POINTSIZE_MAX defaults to the max_point_size the pipeline applies (SPEC 2.6): with
-        // software vertex processing, the emulator's limit, not the device's (SPEC 6).
+        // Under `point_size_max_default = max_point_size`, POINTSIZE_MAX defaults to the
+        // max_point_size the pipeline applies (SPEC 2.6): with software vertex processing, the
+        // emulator's limit, not the device's (SPEC 6).
         let max_point_size = caps.effective().max_point_size;
         for &s in RenderState::all() {
-            render_states[s.0 as usize] = s.default_value(api, max_point_size);
+            render_states[s.0 as usize] = s.default_value(api, &behaviours, max_point_size);
         }
         let mut stage_states = [[0u32; TextureStageState::COUNT]; MAX_STAGES];
         let mut sampler_states = [[0u32; SamplerState::COUNT]; MAX_STAGES];
@@ -107,7 +120,7 @@ impl DeviceState {
         DeviceState {
             api,
             caps,
-            behaviours: Behaviours::default(),
+            behaviours,
             target_width: width,
             target_height: height,
             render_states,

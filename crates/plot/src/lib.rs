@@ -197,13 +197,19 @@ impl Plot {
     }
 
     /// The render states a draw of `layout` runs with, after the D3D9 defaults: the blend
-    /// preset's; POINTSIZE_MIN 0 (sizes are what they say, SPEC 2.3: the D3D9 default of 1
-    /// would enlarge smaller points); POINTSIZE for a constant size; ZENABLE on with depths
-    /// (ZFUNC LESSEQUAL, ZWRITEENABLE TRUE, the defaults), off without; POINTSPRITEENABLE
-    /// with a texture.
+    /// preset's; POINTSIZE_MIN 0 and POINTSIZE_MAX the device's largest size, 8192 (sizes are
+    /// what they say, SPEC 2.3: the D3D9 default minimum of 1 would enlarge smaller points, the
+    /// default maximum of 64, SPEC 2.6, would shrink larger ones); POINTSIZE for a constant
+    /// size; ZENABLE on with depths (ZFUNC LESSEQUAL, ZWRITEENABLE TRUE, the defaults), off
+    /// without; POINTSPRITEENABLE with a texture.
     pub fn render_states(&self, layout: &Layout) -> Vec<(RenderState, u32)> {
         let mut states = self.blend.render_states();
         states.push((RenderState::POINTSIZE_MIN, 0.0f32.to_bits()));
+        let largest = DeviceDesc::new(self.width, self.height)
+            .caps
+            .effective()
+            .max_point_size;
+        states.push((RenderState::POINTSIZE_MAX, largest.to_bits()));
         if let Some(size) = layout.size {
             states.push((RenderState::POINTSIZE, size.to_bits()));
         }
@@ -267,8 +273,13 @@ impl Plot {
     /// what the per-point stage needs to say which pixels a point covers.
     pub fn device_state(&self, layout: &Layout) -> DeviceState {
         let desc = DeviceDesc::new(self.width, self.height);
-        let mut state = DeviceState::new(desc.api, desc.caps, self.width, self.height);
-        state.behaviours = self.behaviours;
+        let mut state = DeviceState::with_behaviours(
+            desc.api,
+            desc.caps,
+            self.behaviours,
+            self.width,
+            self.height,
+        );
         for (s, v) in self.render_states(layout) {
             state.render_states[s.0 as usize] = v;
         }

@@ -107,6 +107,30 @@ fn sizes_are_exact_with_no_minimum_of_one() {
     assert_eq!(lit(5), [5, 6, 7]);
 }
 
+/// SPEC 2.6: D3D9's default POINTSIZE_MAX of 64 would shrink a larger point; a plot sets
+/// POINTSIZE_MAX to the device's 8192, so sizes of 100 (constant or per point) are 100 wide.
+#[test]
+fn sizes_above_64_are_not_clamped_to_the_d3d9_default() {
+    let plot = Plot {
+        clear: 0,
+        ..Plot::new(128, 128)
+    };
+    for size in [
+        Sizes::Constant(100.0),
+        Sizes::PerPoint(Column::F32(&[100.0])),
+    ] {
+        let points = Points {
+            size,
+            ..Points::new(Column::F32(&[64.0]), Column::F32(&[64.0]))
+        };
+        let rgba = plot.render(&points).unwrap();
+        let row: Vec<u32> = (0..128)
+            .filter(|&i| px(&rgba, 128, i, 64)[3] != 0)
+            .collect();
+        assert_eq!(row, (14..114).collect::<Vec<_>>());
+    }
+}
+
 #[test]
 fn depth_keeps_the_nearer_point_whatever_the_order() {
     let x = [0.0f32, 0.0, 1.0, 1.0];
@@ -181,6 +205,7 @@ fn blocks_draw_the_pixels_of_one_draw() {
     device.set_render_state(RenderState::SRCBLEND, D3dBlend::SrcAlpha);
     device.set_render_state(RenderState::DESTBLEND, D3dBlend::InvSrcAlpha);
     device.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+    device.set_render_state(RenderState::POINTSIZE_MAX, 8192.0f32);
     device.set_render_state(RenderState::ZENABLE, false);
     let mut bytes = Vec::new();
     for i in 0..n {

@@ -108,7 +108,7 @@ def write_scene(
 ):
     """A scene file drawing pixel positions X, Y (float32) as `pointillist.points` says it
     does: one XYZRHW vertex a point (PSIZE when sizes vary, DIFFUSE), the preset's states,
-    POINTSIZE_MIN 0, ZENABLE with depths only, a sprite texture on stage 0 (MODULATE colour
+    POINTSIZE_MIN 0, POINTSIZE_MAX 8192, ZENABLE with depths only, a sprite texture on stage 0 (MODULATE colour
     and alpha, linear filtering, clamped)."""
     n = len(X)
     per_size = np.ndim(size) != 0
@@ -129,7 +129,9 @@ def write_scene(
     if per_size:
         v["psize"] = size
     (tmp_path / f"{name}.bin").write_bytes(v.tobytes())
-    states = dict(PRESET_STATES[blend], POINTSIZE_MIN=0.0, ZENABLE=z is not None)
+    states = dict(
+        PRESET_STATES[blend], POINTSIZE_MIN=0.0, POINTSIZE_MAX=8192.0, ZENABLE=z is not None
+    )
     if not per_size:
         states["POINTSIZE"] = float(np.float32(size))
     lines = [

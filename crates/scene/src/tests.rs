@@ -79,6 +79,29 @@ fn behaviour_table_sets_switches_and_names_bad_ones() {
     );
 }
 
+/// SPEC 2.6: `point_size_max_default` is set by `[behaviour]`; the scene's device is created
+/// with it, so its POINTSIZE_MAX starts at the caps' limit instead of 64.
+#[test]
+fn behaviour_table_sets_the_pointsize_max_default() {
+    use pointillist_core::behaviour::PointSizeMaxDefault;
+    let s = ok("[behaviour]\npoint_size_max_default = \"max_point_size\"\n");
+    assert_eq!(
+        s.behaviours.point_size_max_default(),
+        PointSizeMaxDefault::MaxPointSize
+    );
+    assert_eq!(s.device_desc().behaviours, s.behaviours);
+    assert_eq!(
+        ok("").behaviours.point_size_max_default(),
+        PointSizeMaxDefault::SixtyFour
+    );
+    let e = err("[behaviour]\npoint_size_max_default = \"64\"\n");
+    assert!(
+        e.contains("unknown option `64` of behaviour `point_size_max_default`")
+            && e.contains("sixty_four, max_point_size"),
+        "{e}"
+    );
+}
+
 #[test]
 fn minimal_scene_clears_and_sets_the_whole_viewport() {
     let s = ok("");

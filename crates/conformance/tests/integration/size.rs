@@ -4,6 +4,8 @@
 use crate::common::*;
 use pointillist_core::caps::Caps;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
+use pointillist_core::{Behaviours, DeviceDesc};
+use std::collections::BTreeSet;
 
 type Rs = RenderState;
 type Tss = TextureStageState;
@@ -15,7 +17,8 @@ cases!("2-size":
     d3d8_defaults,
     d3d8_min_zero_keeps_a_half_pixel_size,
     d3d8_size_zero_draws_nothing,
-    default_max_is_the_caps_max,
+    default_max_is_64,
+    default_max_under_max_point_size_is_the_caps_max,
     default_min_raises_a_half_pixel_size,
     default_pointsize_is_one_pixel,
     default_scale_factors,
@@ -80,7 +83,7 @@ fn spec_2_6_d3d9_defaults() {
     let d = dev(8, 8);
     assert_eq!(rs_f32(&d, Rs::POINTSIZE), 1.0);
     assert_eq!(rs_f32(&d, Rs::POINTSIZE_MIN), 1.0);
-    assert_eq!(rs_f32(&d, Rs::POINTSIZE_MAX), 8192.0);
+    assert_eq!(rs_f32(&d, Rs::POINTSIZE_MAX), 64.0);
     assert_eq!(rs_f32(&d, Rs::POINTSCALE_A), 1.0);
     assert_eq!(rs_f32(&d, Rs::POINTSCALE_B), 0.0);
     assert_eq!(rs_f32(&d, Rs::POINTSCALE_C), 0.0);
@@ -95,7 +98,7 @@ fn spec_2_6_d3d8_defaults() {
     let d8 = dev_api(32, 32, Api::D3d8, BLACK);
     assert_eq!(rs_f32(&d8, Rs::POINTSIZE_MIN), 0.0);
     assert_eq!(rs_f32(&d8, Rs::POINTSIZE), 1.0);
-    assert_eq!(rs_f32(&d8, Rs::POINTSIZE_MAX), 8192.0);
+    assert_eq!(rs_f32(&d8, Rs::POINTSIZE_MAX), 64.0);
     assert_eq!(rs_f32(&d8, Rs::POINTSCALE_A), 1.0);
     assert_eq!(rs_f32(&d8, Rs::POINTSCALE_B), 0.0);
     assert_eq!(rs_f32(&d8, Rs::POINTSCALE_C), 0.0);
@@ -103,8 +106,20 @@ fn spec_2_6_d3d8_defaults() {
     assert_eq!(d8.render_state(Rs::POINTSPRITEENABLE), 0);
 }
 
+/// SPEC 2.6: POINTSIZE_MAX defaults to 64.0 on every profile under `point_size_max_default =
+/// sixty_four` (the default), and to the effective caps limit under `max_point_size`.
 #[test]
-fn spec_2_6_pointsize_max_defaults_to_the_caps_max() {
+fn spec_2_6_pointsize_max_default_follows_the_behaviour() {
+    let caps_max =
+        Behaviours::default().with(&["point_size_max_default=max_point_size".parse().unwrap()]);
+    let max_under = |caps: Caps, behaviours: Behaviours| {
+        let d = dev_desc(DeviceDesc {
+            caps,
+            behaviours,
+            ..DeviceDesc::new(8, 8)
+        });
+        rs_f32(&d, Rs::POINTSIZE_MAX)
+    };
     for (name, max) in [
         ("reference", 8192.0f32),
         ("no_per_vertex_size", 64.0),
@@ -113,14 +128,39 @@ fn spec_2_6_pointsize_max_defaults_to_the_caps_max() {
         // Software vertex processing: the emulator's limit, not the device's 1.0 (SPEC 6).
         ("software", 8192.0),
     ] {
-        let d = dev_caps(8, 8, Caps::profile(name).unwrap());
-        assert_eq!(rs_f32(&d, Rs::POINTSIZE_MAX), max, "{name}");
+        let caps = Caps::profile(name).unwrap();
+        assert_eq!(max_under(caps, Behaviours::default()), 64.0, "{name}");
+        assert_eq!(max_under(caps, caps_max), max, "{name}");
     }
     let caps = Caps {
         max_point_size: 37.5,
         ..Caps::reference()
     };
-    assert_eq!(rs_f32(&dev_caps(8, 8, caps), Rs::POINTSIZE_MAX), 37.5);
+    assert_eq!(max_under(caps, Behaviours::default()), 64.0);
+    assert_eq!(max_under(caps, caps_max), 37.5);
+}
+
+/// SPEC 2.6: a point of size 100 under the default state draws 64 pixels wide under
+/// `sixty_four` and 100 under `max_point_size`, the same on every backend.
+#[test]
+fn spec_2_6_size_100_under_each_pointsize_max_default() {
+    for (option, lo, hi) in [("sixty_four", 32, 96), ("max_point_size", 14, 114)] {
+        let mut behaviours = Behaviours::default();
+        behaviours.set("point_size_max_default", option).unwrap();
+        let mut d = dev_desc(DeviceDesc {
+            behaviours,
+            ..DeviceDesc::new(128, 128)
+        });
+        d.set_render_state(Rs::POINTSIZE, 100.0f32);
+        rhw_point(&mut d, 64.0, 64.0, 0.5, 0xFFFF_FFFF);
+        let t = target(&mut d);
+        // The square covers [64 - s/2, 64 + s/2) on each axis: lo..hi.
+        let square: BTreeSet<(u32, u32)> = (lo..hi)
+            .flat_map(|y| (lo..hi).map(move |x| (x, y)))
+            .collect();
+        assert_eq!(drawn(&t, BLACK), square, "{option}");
+        assert!(square.iter().all(|&(x, y)| t.pixel(x, y) == 0xFFFF_FFFF));
+    }
 }
 
 #[test]

@@ -43,25 +43,36 @@ cases!("wine":
     c18_size_zero_draws_nothing_d3d9_per_vertex,
 );
 
-/// Part A reads POINTSIZE_MAX back before changing it and restores it: it is the device's
-/// MaxPointSize (and POINTSIZE_MIN the API's default), on both APIs.
+/// Part A reads POINTSIZE_MAX back before changing it and restores it without checking it (its
+/// comment: "pointsize_max = default(usually 64.0)"): 64 under `point_size_max_default =
+/// sixty_four` (SPEC 2.6), the device's MaxPointSize under `max_point_size`; POINTSIZE_MIN is
+/// the API's default. Both APIs.
 #[test]
 fn wine_a_reads_back_the_size_limits() {
-    for max in [8192.0f32, 64.0] {
+    for max in [8192.0f32, 64.0, 37.5] {
         for (api, min) in [(Api::D3d9, 1.0f32), (Api::D3d8, 0.0)] {
-            let caps = Caps {
-                max_point_size: max,
-                ..Caps::reference()
-            };
-            let d = pointillist_testkit::device(DeviceDesc {
-                api,
-                caps,
-                ..DeviceDesc::new(8, 8)
-            })
-            .unwrap();
-            let read = |s| f32::from_bits(d.render_state(s));
-            assert_eq!(read(RenderState::POINTSIZE_MAX), max, "{api:?}");
-            assert_eq!(read(RenderState::POINTSIZE_MIN), min, "{api:?}");
+            for (option, default_max) in [("sixty_four", 64.0f32), ("max_point_size", max)] {
+                let caps = Caps {
+                    max_point_size: max,
+                    ..Caps::reference()
+                };
+                let mut desc = DeviceDesc {
+                    api,
+                    caps,
+                    ..DeviceDesc::new(8, 8)
+                };
+                desc.behaviours
+                    .set("point_size_max_default", option)
+                    .unwrap();
+                let d = pointillist_testkit::device(desc).unwrap();
+                let read = |s| f32::from_bits(d.render_state(s));
+                assert_eq!(
+                    read(RenderState::POINTSIZE_MAX),
+                    default_max,
+                    "{api:?} {option}"
+                );
+                assert_eq!(read(RenderState::POINTSIZE_MIN), min, "{api:?}");
+            }
         }
     }
 }

@@ -360,8 +360,8 @@ impl<B: Backend> Device<B> {
             return Err(DeviceError::TargetSize { width, height });
         }
         backend.create_target(width, height, desc.clear_color, desc.clear_depth)?;
-        let mut state = DeviceState::new(desc.api, desc.caps, width, height);
-        state.behaviours = desc.behaviours;
+        let state =
+            DeviceState::with_behaviours(desc.api, desc.caps, desc.behaviours, width, height);
         Ok(Device {
             backend,
             state,
@@ -380,9 +380,13 @@ impl<B: Backend> Device<B> {
     /// before (the next frame of an animation) starts from the same state as on a new one.
     pub fn reset_state(&mut self) {
         let s = &self.state;
-        let behaviours = s.behaviours;
-        self.state = DeviceState::new(s.api, s.caps, s.target_width, s.target_height);
-        self.state.behaviours = behaviours;
+        self.state = DeviceState::with_behaviours(
+            s.api,
+            s.caps,
+            s.behaviours,
+            s.target_width,
+            s.target_height,
+        );
     }
 
     /// GetDeviceCaps: the caps the device reports.
@@ -719,6 +723,41 @@ mod tests {
         assert_eq!(d.state().view, fresh.state().view);
         assert_eq!(d.state().viewport, fresh.state().viewport);
         assert_eq!(d.state().caps, fresh.state().caps);
+    }
+
+    /// SPEC 2.6: POINTSIZE_MAX starts at the default of the device's `point_size_max_default`
+    /// option, and a state reset restores that default, not the other.
+    #[test]
+    fn the_pointsize_max_default_follows_the_behaviour_through_a_reset() {
+        let max_of = |d: &Device<Counting>| {
+            f32::from_bits(d.state().render_state(RenderState::POINTSIZE_MAX))
+        };
+        for (option, expected) in [("sixty_four", 64.0f32), ("max_point_size", 8192.0)] {
+            let mut desc = DeviceDesc::new(16, 16);
+            desc.behaviours
+                .set("point_size_max_default", option)
+                .unwrap();
+            let mut d = Device::new(Counting::default(), desc).unwrap();
+            assert_eq!(max_of(&d), expected, "{option}");
+            d.set_render_state(RenderState::POINTSIZE_MAX, 3.0f32);
+            assert_eq!(max_of(&d), 3.0);
+            d.reset_state();
+            assert_eq!(max_of(&d), expected, "{option} after reset_state");
+            assert_eq!(
+                d.state().behaviours.get("point_size_max_default"),
+                Some(option)
+            );
+        }
+        // The caps' limit is the effective one: 8192 with software vertex processing.
+        let mut desc = DeviceDesc::new(16, 16);
+        desc.caps = Caps::profile("software").unwrap();
+        desc.behaviours
+            .set("point_size_max_default", "max_point_size")
+            .unwrap();
+        assert_eq!(
+            max_of(&Device::new(Counting::default(), desc).unwrap()),
+            8192.0
+        );
     }
 
     #[test]

@@ -2,6 +2,8 @@
 //! number, value kind, D3D9 default (D3D8's where it differs, SPEC 2.6) and whether points read
 //! it (SPEC 5.1).
 
+use crate::behaviour::Behaviours;
+
 use super::{
     Api, Blend, BlendOp, Cmp, F0, F1, FALSE, TRUE, ValueKind, ZBufferType, lookup, lookup_name,
 };
@@ -115,7 +117,8 @@ state_table! {
     PATCHEDGESTYLE = 163, Enum(PatchEdgeStyle), 0, false;
     /// Defaults to 0xBAADCAFE, the value the D3D9 runtime reports (not a `D3DDMT_*` value).
     DEBUGMONITORTOKEN = 165, Enum(DebugMonitorTokens), 0xBAAD_CAFE, false;
-    /// Upper size clamp (SPEC 2.3); defaults to the device's `max_point_size` (SPEC 2.6).
+    /// Upper size clamp (SPEC 2.3); defaults to 64.0 or the device's `max_point_size`, by the
+    /// behaviour switch `point_size_max_default` (SPEC 2.6).
     POINTSIZE_MAX = 166, Float, F1, true;
     INDEXEDVERTEXBLENDENABLE = 167, Bool, FALSE, false;
     /// Channel write mask of render target 0 (SPEC 5.6): bit 0 red, 1 green, 2 blue, 3 alpha.
@@ -189,12 +192,16 @@ impl RenderState {
         RS_ALL
     }
 
-    /// The default raw value: the D3D9 runtime's defaults, with the choices of SPEC 2.6
-    /// (`POINTSIZE_MAX` = `max_point_size`, `POINTSIZE_MIN` 0.0 under [`Api::D3d8`]) and
-    /// `ZENABLE` = `D3DZB_TRUE`. Floats are returned as their bits; undefined numbers give 0.
-    pub fn default_value(self, api: Api, max_point_size: f32) -> u32 {
+    /// The default raw value: the D3D9 runtime's defaults, with the rules of SPEC 2.6
+    /// (`POINTSIZE_MAX` by the switch `point_size_max_default` of `behaviours`, given the
+    /// effective `max_point_size`; `POINTSIZE_MIN` 0.0 under [`Api::D3d8`]) and `ZENABLE` =
+    /// `D3DZB_TRUE`. Floats are returned as their bits; undefined numbers give 0.
+    pub fn default_value(self, api: Api, behaviours: &Behaviours, max_point_size: f32) -> u32 {
         match self {
-            RenderState::POINTSIZE_MAX => max_point_size.to_bits(),
+            RenderState::POINTSIZE_MAX => behaviours
+                .point_size_max_default()
+                .value(max_point_size)
+                .to_bits(),
             RenderState::POINTSIZE_MIN if api == Api::D3d8 => F0,
             _ => lookup(RS_TABLE, self.0).map_or(0, |info| info.default),
         }
@@ -212,8 +219,9 @@ mod tests {
 
     #[test]
     fn point_size_defaults() {
-        let d9 = |s: RenderState| f32::from_bits(s.default_value(Api::D3d9, 64.0));
-        let d8 = |s: RenderState| f32::from_bits(s.default_value(Api::D3d8, 64.0));
+        let b = Behaviours::default();
+        let d9 = |s: RenderState| f32::from_bits(s.default_value(Api::D3d9, &b, 8192.0));
+        let d8 = |s: RenderState| f32::from_bits(s.default_value(Api::D3d8, &b, 8192.0));
         assert_eq!(d9(RenderState::POINTSIZE), 1.0);
         assert_eq!(d9(RenderState::POINTSIZE_MIN), 1.0);
         assert_eq!(d8(RenderState::POINTSIZE_MIN), 0.0);
@@ -221,18 +229,27 @@ mod tests {
         assert_eq!(d9(RenderState::POINTSCALE_A), 1.0);
         assert_eq!(d9(RenderState::POINTSCALE_B), 0.0);
         assert_eq!(d9(RenderState::POINTSCALE_C), 0.0);
+        // point_size_max_default: 64.0 by default, whatever the caps; the caps' limit under
+        // max_point_size.
         assert_eq!(d9(RenderState::POINTSIZE_MAX), 64.0);
         assert_eq!(d8(RenderState::POINTSIZE_MAX), 64.0);
-        for max in [1.0f32, 8192.0, 0.5] {
-            let bits = RenderState::POINTSIZE_MAX.default_value(Api::D3d9, max);
-            assert_eq!(bits, max.to_bits());
+        let mut caps_max = Behaviours::default();
+        caps_max
+            .set("point_size_max_default", "max_point_size")
+            .unwrap();
+        for max in [1.0f32, 8192.0, 0.5, 37.5] {
+            let max_of = |b: &Behaviours| {
+                f32::from_bits(RenderState::POINTSIZE_MAX.default_value(Api::D3d9, b, max))
+            };
+            assert_eq!(max_of(&b), 64.0, "{max}");
+            assert_eq!(max_of(&caps_max), max);
         }
         assert_eq!(
-            RenderState::POINTSPRITEENABLE.default_value(Api::D3d9, 64.0),
+            RenderState::POINTSPRITEENABLE.default_value(Api::D3d9, &b, 64.0),
             0
         );
         assert_eq!(
-            RenderState::POINTSCALEENABLE.default_value(Api::D3d9, 64.0),
+            RenderState::POINTSCALEENABLE.default_value(Api::D3d9, &b, 64.0),
             0
         );
     }

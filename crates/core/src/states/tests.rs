@@ -76,7 +76,8 @@ fn state_name_round_trips() {
 
 #[test]
 fn other_defaults() {
-    let d = |s: RenderState| s.default_value(Api::D3d9, 64.0);
+    let b = crate::behaviour::Behaviours::default();
+    let d = |s: RenderState| s.default_value(Api::D3d9, &b, 64.0);
     assert_eq!(d(RenderState::ZENABLE), 1);
     assert_eq!(d(RenderState::ZWRITEENABLE), 1);
     assert_eq!(d(RenderState::ZFUNC), Cmp::LessEqual as u32);
