@@ -170,7 +170,7 @@ fn heavy_scene(dir: &TempDir, points: usize) -> std::path::PathBuf {
     std::fs::write(dir.path("v.bin"), vertex.repeat(points)).unwrap();
     dir.write(
         "heavy.toml",
-        "format = 1\n[target]\nwidth = 1024\nheight = 1024\n[states]\nPOINTSIZE = 1024.0\n\
+        "format = 1\n[target]\nwidth = 1024\nheight = 1024\n[states]\nPOINTSIZE = 1024.0\nPOINTSIZE_MAX = 8192.0\n\
          [[draw]]\nfvf = \"XYZRHW\"\nfile = \"v.bin\"\n",
     )
 }
@@ -205,7 +205,7 @@ fn a_draw_beyond_the_work_limit_is_refused_before_it_is_drawn() {
     assert_eq!(
         err,
         format!(
-            "error: {}:7:1: draw[0]: this draw of 200000 points would write 2.1e11 pixels, above \
+            "error: {}:8:1: draw[0]: this draw of 200000 points would write 2.1e11 pixels, above \
              the limit of 1e11 a draw (hours of drawing); --max-pixels N raises it\n",
             scene.display()
         )

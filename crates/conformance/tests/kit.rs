@@ -316,8 +316,8 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     assert_eq!(
         json["device"],
         serde_json::json!({"description": "Test Adapter 9000", "max_point_size": 64.0,
-            "fvfcaps_psize": true, "clip_plane_scaled_points": true, "w_fog": true,
-            "max_active_lights": 4})
+            "fvfcaps_psize": true, "clip_plane_scaled_points": true, "clip_tl_verts": true,
+            "w_fog": true, "max_active_lights": 4})
     );
     let cases = json["cases"].as_array().unwrap();
     let by_scene = |n: &str| {

@@ -300,6 +300,7 @@ fn a_target_beyond_the_adapter_is_an_error_not_a_panic() {
     // The context stays usable, and an absurd point size is clamped, not a failed allocation.
     let mut device = Device::new(GpuBackend::with_context(ctx), DeviceDesc::new(W, H)).unwrap();
     device.set_render_state(RenderState::POINTSIZE, f32::MAX);
+    device.set_render_state(RenderState::POINTSIZE_MAX, f32::MAX);
     device
         .draw_vertices(&[XyzRhwPsizeDiffuse {
             position: [1.0, 1.0, 0.5, 1.0],
