@@ -11,7 +11,10 @@ import pointillist
 from conftest import read_png, run_cli
 
 ONE = {"minimum_size": "one_pixel"}
-NAMES = "specular_fog, fog_without_specular, minimum_size, fog_start_equals_end, zero_rhw"
+NAMES = (
+    "specular_fog, fog_without_specular, minimum_size, fog_start_equals_end, zero_rhw, "
+    "point_size_max_default, depth_clip"
+)
 
 
 def lit(img):
@@ -61,6 +64,8 @@ def test_device_takes_the_switches_and_reports_them():
         "minimum_size": "one_pixel",
         "fog_start_equals_end": "vertex_fogged_table_step",
         "zero_rhw": "drawn",
+        "point_size_max_default": "sixty_four",
+        "depth_clip": "vertex_processing",
     }
 
 
