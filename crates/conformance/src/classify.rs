@@ -24,30 +24,51 @@ pub struct Classification {
     pub matching: Option<(&'static str, &'static str)>,
 }
 
+/// A case's two images and how they compared.
+#[derive(Clone, Copy)]
+pub struct Compared<'a> {
+    /// pointillist's image under the scene's behaviours.
+    pub ours: &'a Image,
+    /// The device's image.
+    pub theirs: &'a Image,
+    /// The case's tolerance.
+    pub tolerance: Tolerance,
+    /// True when `theirs` matches `ours` within `tolerance`.
+    pub matched: bool,
+}
+
 /// Classifies a case whose image under `base` is `ours` (`matched`: the device's image
 /// `theirs` matches it within `tolerance`). `render` draws the case under other behaviours; it
 /// is called for the switches in `read` (those the case's draws depend on), one switch changed
-/// at a time.
+/// at a time. Where several options draw the device's image, the one `prefer` names (the
+/// expectations' `[behaviour]`) is taken, else the default, else none; a matching case shows
+/// its own option, or the preferred one where that draws the case alike.
 pub fn classify(
     base: Behaviours,
     read: BehaviourSet,
-    ours: &Image,
-    theirs: &Image,
-    tolerance: Tolerance,
-    matched: bool,
+    prefer: &BTreeMap<String, String>,
+    images: Compared<'_>,
     mut render: impl FnMut(Behaviours) -> Result<Image, String>,
 ) -> Classification {
+    let Compared {
+        ours,
+        theirs,
+        tolerance,
+        matched,
+    } = images;
     let mut out = Classification::default();
     for def in BEHAVIOURS.iter().filter(|d| read.contains(d.name)) {
         let current = base.get(def.name).expect("every switch has an option");
         let mut matching: Vec<&'static str> = Vec::new();
+        let mut alike = vec![current];
         let mut decides = false;
         for option in def.option_names().filter(|o| *o != current) {
             let mut alt = base;
             alt.set(def.name, option).expect("an option of the switch");
             let Ok(image) = render(alt) else { continue };
             if image.rgba == ours.rgba {
-                continue; // this option draws the case alike
+                alike.push(option); // this option draws the case alike
+                continue;
             }
             decides = true;
             if compare(&image, theirs, tolerance).first.is_none() {
@@ -57,15 +78,22 @@ pub fn classify(
         if !decides {
             continue;
         }
-        // Several options drawing the device's image alike: the default, if it is one of them
-        // (the option with the strongest evidence), else undecided.
+        // Several options drawing the device's image alike: the one the expectations name, else
+        // the default (the option with the strongest evidence), else undecided.
+        let preferred = prefer.get(def.name).map(String::as_str);
         let found = match matching.as_slice() {
             [option] => Some(*option),
-            several => several.iter().copied().find(|o| *o == def.default_name()),
+            several => several
+                .iter()
+                .copied()
+                .find(|o| Some(*o) == preferred)
+                .or_else(|| several.iter().copied().find(|o| *o == def.default_name())),
         };
         match (matched, found) {
             (true, _) if matching.is_empty() => {
-                out.shown.insert(def.name, current);
+                // Matched: the scene's option, or the expected one where it draws alike.
+                let shown = alike.iter().copied().find(|o| Some(*o) == preferred);
+                out.shown.insert(def.name, shown.unwrap_or(current));
             }
             (false, Some(option)) => {
                 out.shown.insert(def.name, option);
@@ -137,10 +165,13 @@ mod tests {
         let c = classify(
             base,
             none,
-            &image(10),
-            &image(20),
-            Tolerance::Exact,
-            false,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(10),
+                theirs: &image(20),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
             |_| panic!("the case reads no switch: nothing to render"),
         );
         assert_eq!(c, Classification::default());
@@ -150,10 +181,13 @@ mod tests {
         let c = classify(
             base,
             read,
-            &image(10),
-            &image(20),
-            Tolerance::Exact,
-            false,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(10),
+                theirs: &image(20),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
             |b| {
                 tried.push(b);
                 render(b)
@@ -169,10 +203,13 @@ mod tests {
         let c = classify(
             base,
             all(),
-            &image(10),
-            &image(20),
-            Tolerance::Exact,
-            false,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(10),
+                theirs: &image(20),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
             render,
         );
         assert_eq!(c.matching, Some(("specular_fog", "clamped")));
@@ -188,10 +225,13 @@ mod tests {
         let c = classify(
             base,
             all(),
-            &image(10),
-            &image(10),
-            Tolerance::Exact,
-            true,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(10),
+                theirs: &image(10),
+                tolerance: Tolerance::Exact,
+                matched: true,
+            },
             render,
         );
         assert_eq!(c.matching, None);
@@ -216,10 +256,13 @@ mod tests {
         let c = classify(
             base,
             all(),
-            &image(30),
-            &image(40),
-            Tolerance::Exact,
-            false,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(30),
+                theirs: &image(40),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
             render40,
         );
         assert_eq!(
@@ -238,13 +281,31 @@ mod tests {
         let c = classify(
             base,
             all(),
-            &image(30),
-            &image(40),
-            Tolerance::Exact,
-            false,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(30),
+                theirs: &image(40),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
             render_two,
         );
         assert_eq!(c.matching, None);
+        // The expectations name one of them: that one.
+        let prefer = BTreeMap::from([("fog_start_equals_end".to_string(), "step".to_string())]);
+        let c = classify(
+            base,
+            all(),
+            &prefer,
+            Compared {
+                ours: &image(30),
+                theirs: &image(40),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
+            render_two,
+        );
+        assert_eq!(c.matching, Some(("fog_start_equals_end", "step")));
     }
 
     #[test]
@@ -253,10 +314,13 @@ mod tests {
         let c = classify(
             base,
             all(),
-            &image(10),
-            &image(99),
-            Tolerance::Exact,
-            false,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(10),
+                theirs: &image(99),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
             render,
         );
         assert_eq!(c, Classification::default());
@@ -264,10 +328,13 @@ mod tests {
         let c = classify(
             base,
             all(),
-            &image(10),
-            &image(15),
-            Tolerance::Steps(10),
-            true,
+            &BTreeMap::new(),
+            Compared {
+                ours: &image(10),
+                theirs: &image(15),
+                tolerance: Tolerance::Steps(10),
+                matched: true,
+            },
             render,
         );
         assert_eq!(c, Classification::default());

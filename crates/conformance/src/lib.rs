@@ -341,6 +341,7 @@ fn judge(
     device: &DeviceInfo,
     dir: &Path,
     settings: &[BehaviourSetting],
+    prefer: &BTreeMap<String, String>,
     inputs: &[PathBuf],
 ) -> CaseReport {
     let mut r = CaseReport {
@@ -437,10 +438,13 @@ fn judge(
     let found = classify::classify(
         behaviours,
         read,
-        &ours,
-        &theirs,
-        tolerance,
-        r.status == Status::Match,
+        prefer,
+        classify::Compared {
+            ours: &ours,
+            theirs: &theirs,
+            tolerance,
+            matched: r.status == Status::Match,
+        },
         |b| render(&scene, caps, b),
     );
     if let Some((name, option)) = found.matching {
@@ -550,6 +554,7 @@ pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
             &captures.device,
             dir,
             &opts.behaviours,
+            &expectations.behaviours,
             &inputs,
         );
         r.verdict = expectations.check(&r.name, r.status, r.pixels_differing, r.matching);

@@ -149,6 +149,9 @@ switches! {
         ClippingState,
         /// As DXVK: every point is depth-clipped, whatever CLIPPING, ZENABLE and the caps say.
         Always,
+        /// As Wine: the hardware vertex processing rule under software vertex processing too
+        /// (CLIPPING never decides).
+        ClippingIgnored,
     }
     /// SPEC 2.5: a point whose size is below one pixel.
     minimum_size = 2, MinimumSize {
@@ -312,6 +315,10 @@ pub const BEHAVIOURS: [BehaviourDef; 7] = [
                 "always",
                 "every point is clipped, whatever CLIPPING, ZENABLE and CLIPTLVERTS say",
             ),
+            (
+                "clipping_ignored",
+                "CLIPPING never decides: hardware vertex processing's rule under software vertex processing too",
+            ),
         ],
         default: 0,
         evidence: Evidence::Hardware,
@@ -320,6 +327,7 @@ pub const BEHAVIOURS: [BehaviourDef; 7] = [
             "Wine dlls/d3d9/tests/visual.c, z_range_test (clipped at Z < 0 and Z > 1 under CLIPTLVERTS) and zenable_test (Z outside 0..1 drawn with ZENABLE FALSE)",
             "microsoft/D3D9On12 src/9on12PixelStage.cpp (DepthClipEnable = D3DRS_CLIPPING) and include/9on12PipelineStateStructures.h (off for pre-transformed draws without an enabled depth buffer)",
             "DXVK src/d3d9/d3d9_device.cpp: setDepthClip(true) for every draw",
+            "Wine 8 d3d9 in pointillist's conformance kit: CLIPPING off under software vertex processing still clips (clipping_ignored)",
         ],
     },
 ];

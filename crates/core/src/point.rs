@@ -90,6 +90,7 @@ pub fn depth_clipped(
         },
         DepthClip::ClippingState => clipping && (!pretransformed || zenable),
         DepthClip::Always => true,
+        DepthClip::ClippingIgnored => !pretransformed || (caps.clip_tl_verts && zenable),
     }
 }
 
@@ -98,13 +99,7 @@ pub fn depth_clipped(
 /// before the clamp (SPEC 9.5).
 #[inline]
 pub fn written_depth(z: f32) -> f32 {
-    if z < 0.0 {
-        0.0
-    } else if z > 1.0 {
-        1.0
-    } else {
-        z
-    }
+    z.clamp(0.0, 1.0) // -0 stays -0
 }
 
 /// SPEC 4.1: the pixel indices `k` with `lo <= k < hi` for one axis of a square, as
@@ -513,7 +508,7 @@ impl PointSetup {
     #[inline]
     pub fn keeps_pretransformed(&self, z: f32, rhw: f32) -> bool {
         (rhw > 0.0 || (rhw == 0.0 && self.zero_rhw_drawn))
-            && (!self.depth_clip || (0.0 <= z && z <= 1.0))
+            && (!self.depth_clip || (0.0..=1.0).contains(&z))
     }
 
     /// True when a pre-transformed point with RHW 0 or -0 is drawn, as RHW 1 (the `zero_rhw`
@@ -705,7 +700,7 @@ mod tests {
             vertex_processing: VertexProcessing::Software,
             ..hw
         };
-        use DepthClip::{Always, ClippingState, VertexProcessing as ByVp};
+        use DepthClip::{Always, ClippingIgnored, ClippingState, VertexProcessing as ByVp};
         // (rule, caps, pretransformed, CLIPPING, ZENABLE) -> clipped
         let table = [
             (ByVp, hw, false, false, true, true),
@@ -721,6 +716,9 @@ mod tests {
             (ClippingState, no_tl, true, true, true, true),
             (Always, no_tl, true, false, false, true),
             (Always, sw, false, false, false, true),
+            (ClippingIgnored, sw, false, false, true, true),
+            (ClippingIgnored, sw, true, true, false, false),
+            (ClippingIgnored, no_tl, true, true, true, false),
         ];
         for (rule, caps, pre, clipping, zenable, clipped) in table {
             assert_eq!(

@@ -14,6 +14,7 @@ cases!("2-size":
     caps_max_point_size_bounds_pointsize_max,
     clamp_applies_to_scaled_sizes_max,
     clamp_applies_to_scaled_sizes_min,
+    d3d8_default_max_is_64,
     d3d8_defaults,
     d3d8_min_zero_keeps_a_half_pixel_size,
     d3d8_size_zero_draws_nothing,
