@@ -47,8 +47,10 @@ impl<'a> DrawSetup<'a> {
     /// SPECULAR whose fog factor is the specular alpha, `fog_start_equals_end` for LINEAR fog
     /// with FOGSTART == FOGEND, `zero_rhw` for pre-transformed vertices, `minimum_size` where
     /// the clamp allows sizes below one pixel, `point_size_max_default` where POINTSIZE_MAX
-    /// still holds this device's default and the two options' defaults differ.
+    /// still holds this device's default and the two options' defaults differ, `depth_clip`
+    /// where its options clip this draw's points differently ([`depth_clipped`]).
     pub fn behaviours_read(&self) -> BehaviourSet {
+        let caps = self.state.caps.effective();
         let rs = |s: RenderState| self.state.render_state(s);
         let f = |s| f32::from_bits(rs(s));
         let mut set = BehaviourSet::default();
@@ -75,7 +77,7 @@ impl<'a> DrawSetup<'a> {
         let clipped = |rule| {
             depth_clipped(
                 rule,
-                &self.state.caps.effective(),
+                &caps,
                 self.fvf.is_pretransformed(),
                 rs(RenderState::CLIPPING) != 0,
                 rs(RenderState::ZENABLE) != 0,
@@ -90,14 +92,14 @@ impl<'a> DrawSetup<'a> {
         let (lo, hi) = clamp_bounds(
             f(RenderState::POINTSIZE_MIN),
             f(RenderState::POINTSIZE_MAX),
-            self.state.caps.effective().max_point_size,
+            caps.max_point_size,
         );
         if !self.points.is_single_pixel() && (lo.is_nan() || lo < 1.0 || hi < 1.0) {
             set.insert("minimum_size");
         }
         // The two defaults of POINTSIZE_MAX bound the size alike when the caps' limit is at most
         // 64 (hi = min(max_point_size, POINTSIZE_MAX)).
-        let max_point_size = self.state.caps.effective().max_point_size;
+        let max_point_size = caps.max_point_size;
         let default_max = |o: PointSizeMaxDefault| o.value(max_point_size);
         let hi_under = |o| clamp_bounds(lo, default_max(o), max_point_size).1;
         let own = default_max(self.state.behaviours.point_size_max_default());
