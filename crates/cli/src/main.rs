@@ -158,19 +158,26 @@ options and a default, the option with the strongest evidence: hardware (a recor
 Windows drivers), microsoft-driver, documented, implementations (Wine and DXVK agree) or choice.
 
 A scene's [behaviour] table sets them (NAME = \"OPTION\"); render, animate and conform take
---behaviour NAME=OPTION, repeatable, over the scene's.";
+--behaviour NAME=OPTION, repeatable, over the scene's. A profile (--profiles lists them) sets
+the switches a source shows for a whole device: profile = \"NAME\" in [behaviour], or
+--behaviour profile=NAME, applied before the switches beside it.";
 
 /// Arguments of `pointillist behaviours`.
 #[derive(Debug, Args)]
 pub struct BehavioursArgs {
-    /// Print a JSON array of objects with the keys name, options, default, evidence, sources.
+    /// Print a JSON array of objects with the keys name, options, default, evidence, sources
+    /// (with --profiles: name, summary, settings, sources).
     #[arg(long)]
     pub json: bool,
+    /// List the behaviour profiles instead: one name for the options a source shows for a
+    /// whole device (`profile = "NAME"` in [behaviour], `--behaviour profile=NAME`).
+    #[arg(long)]
+    pub profiles: bool,
 }
 
 /// `--behaviour NAME=OPTION`: a device behaviour switch (`pointillist behaviours` lists them).
 const BEHAVIOUR_HELP: &str = "Set a device behaviour switch over the scene's [behaviour] table \
-(repeatable; `pointillist behaviours` lists them)";
+(repeatable; `pointillist behaviours` lists them), or profile=NAME (`--profiles` lists them)";
 
 /// The long description of `pointillist export-calls --help`.
 const EXPORT_LONG_ABOUT: &str = "\

@@ -661,6 +661,66 @@ fn behaviours_lists_every_switch_as_text_and_json() {
     assert!(text.contains("  sixty_four (default): 64.0"), "{text}");
 }
 
+/// `--behaviour profile=NAME` sets a profile's switches before the switches beside it
+/// (`pointillist behaviours --profiles` lists them): a pre-transformed point without SPECULAR
+/// under fog is fogged completely by default and under `wine`, unfogged under `dxvk`, whose
+/// option `--behaviour fog_without_specular=fogged` overrides whatever its order.
+#[test]
+fn render_takes_a_behaviour_profile() {
+    let out = pointillist(&["behaviours", "--profiles", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("\"name\": \"dxvk\""), "{text}");
+    assert!(
+        text.contains("\"fog_without_specular\": \"unfogged\""),
+        "{text}"
+    );
+    let dir = TempDir::new("profile");
+    let body = "format = 1\n[target]\nwidth = 4\nheight = 4\n[states]\nPOINTSIZE = 2.0\n\
+        FOGENABLE = true\nFOGCOLOR = 0xFF0000FF\n[[draw]]\nfvf = \"XYZRHW | DIFFUSE\"\n\
+        vertices = [[2.0, 2.0, 0.5, 1.0, 0xFFFF0000]]\n";
+    let scene = dir.write("s.toml", body);
+    let png = dir.path("s.png");
+    let pixel = |args: &[&str]| {
+        let mut all = vec!["render", path_arg(&scene), "-o", path_arg(&png)];
+        all.extend_from_slice(args);
+        let out = pointillist(&all);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let (_, _, pixels) = read_rgba8_png(&png);
+        pixels[2 * 4 + 2] & 0xFF_FFFF
+    };
+    let fogged = pixel(&[]);
+    assert_ne!(fogged & 0xFF, 0, "fogged blue: {fogged:06x}");
+    assert_eq!(pixel(&["--behaviour", "profile=wine"]), fogged);
+    let unfogged = pixel(&["--behaviour", "profile=dxvk"]);
+    assert_ne!(unfogged, fogged);
+    assert_eq!(
+        pixel(&[
+            "--behaviour",
+            "fog_without_specular=fogged",
+            "--behaviour",
+            "profile=dxvk"
+        ]),
+        fogged
+    );
+    let out = pointillist(&[
+        "render",
+        path_arg(&scene),
+        "-o",
+        path_arg(&png),
+        "--behaviour",
+        "profile=xp",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains(
+            "unknown behaviour profile `xp` (expected one of: windows, warp, d3d9on12, wine, dxvk)"
+        ) && err.lines().count() == 1,
+        "{err}"
+    );
+}
+
 /// `render --behaviour`: an over-bright specular sum fogged unclamped by default, clamped with
 /// `--behaviour specular_fog=clamped`, which overrides the scene's `[behaviour]`; bad
 /// settings are one line naming what there is.

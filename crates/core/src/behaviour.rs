@@ -8,6 +8,10 @@
 
 use std::fmt;
 
+mod profiles;
+
+pub use profiles::{BehaviourProfile, PROFILE_KEY, PROFILES};
+
 /// How strongly a rule is known, strongest first (docs/spec/SOURCES.md).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Evidence {
@@ -167,6 +171,24 @@ switches! {
         /// The `max_point_size` the pipeline applies (`Caps::effective`).
         MaxPointSize,
     }
+    /// SPEC 9.5: the distance table fog of pre-transformed points reads.
+    pretransformed_table_fog = 7, PretransformedTableFog {
+        /// As for transformed points: `1 / RHW` under a projection that is not affine (with
+        /// D3DPRASTERCAPS_WFOG), else Z.
+        Projection,
+        /// `1 / RHW` whatever the projection (with D3DPRASTERCAPS_WFOG).
+        W,
+        /// Z whatever the projection.
+        Z,
+    }
+    /// SPEC 9.5: the z that z-based table fog of transformed points reads when the viewport's
+    /// MinZ..MaxZ is not 0..1.
+    table_fog_depth = 8, TableFogDepth {
+        /// The depth Z after the viewport maps it to MinZ..MaxZ.
+        Viewport,
+        /// Clip-space z / w, before the viewport.
+        ClipZ,
+    }
 }
 
 impl PointSizeMaxDefault {
@@ -180,7 +202,7 @@ impl PointSizeMaxDefault {
 }
 
 /// Every switch; the index of each is the one its accessor on [`Behaviours`] reads.
-pub const BEHAVIOURS: [BehaviourDef; 7] = [
+pub const BEHAVIOURS: [BehaviourDef; 9] = [
     BehaviourDef {
         name: "specular_fog",
         summary: "fog of a diffuse + specular sum above 1 (SPECULARENABLE and FOGENABLE)",
@@ -330,6 +352,49 @@ pub const BEHAVIOURS: [BehaviourDef; 7] = [
             "Wine 8 d3d9 in pointillist's conformance kit: CLIPPING off under software vertex processing still clips (clipping_ignored)",
         ],
     },
+    BehaviourDef {
+        name: "pretransformed_table_fog",
+        summary: "the distance table fog of pre-transformed (XYZRHW) points reads",
+        rule: "SPEC 9.5",
+        options: &[
+            (
+                "projection",
+                "1 / RHW under a projection that is not affine (on a device with WFOG), else Z, as for transformed points",
+            ),
+            (
+                "w",
+                "1 / RHW whatever the projection (on a device with WFOG)",
+            ),
+            ("z", "Z whatever the projection"),
+        ],
+        default: 0,
+        evidence: Evidence::Hardware,
+        sources: &[
+            "Wine dlls/d3d9/tests/visual.c, test_fog: XYZRHW rows fog by 1 / RHW under a projection with _44 = 1.01 and by Z under an affine one, on every Windows driver recorded (no broken())",
+            "microsoft/D3D9On12 src/9on12PixelStage.cpp, PixelStage::UpdateWInfo (w fog unless WNear = WFar = 1) and ShaderConv/tlvsconv.cpp (a pre-transformed vertex reaches the pixel shader with w = 1 / RHW)",
+            "DXVK master src/d3d9/d3d9_device.cpp, UpdateFog (PR 5723, \"Also enable W fog if PositionT is used\"): w for every pre-transformed draw",
+            "Wine 8 (test_fog's XYZRHW w rows are todo_wine): Z",
+        ],
+    },
+    BehaviourDef {
+        name: "table_fog_depth",
+        summary: "the z that z-based table fog of transformed points reads under a viewport MinZ..MaxZ other than 0..1",
+        rule: "SPEC 9.5",
+        options: &[
+            (
+                "viewport",
+                "the depth Z, after the viewport maps clip z / w to MinZ..MaxZ",
+            ),
+            ("clip_z", "clip-space z / w, before the viewport"),
+        ],
+        default: 0,
+        evidence: Evidence::MicrosoftDriver,
+        sources: &[
+            "microsoft/D3D9On12 ShaderConv/psconv.cpp, CPSContext::ComputePixelFog: SV_Position.z, the depth after the viewport",
+            "DXVK 2.6.2 d3d9_fixed_function.cpp and master d3d9_fixed_function_frag.glsl: gl_FragCoord.z, after the viewport's depth range",
+            "Wine dlls/d3d9/tests/visual.c, test_fog: under MinZ 0, MaxZ 1 NVIDIA's fog reads the vertex output z (before the divide and the viewport), the others the pixel's Z; no record under another depth range",
+        ],
+    },
 ];
 
 impl Default for Behaviours {
@@ -385,6 +450,8 @@ pub enum BehaviourError {
         /// The option asked for.
         option: String,
     },
+    /// No profile has this name.
+    UnknownProfile(String),
     /// Not `NAME=OPTION`.
     Syntax(String),
 }
@@ -395,9 +462,15 @@ impl fmt::Display for BehaviourError {
         match self {
             BehaviourError::UnknownSwitch(name) => write!(
                 f,
-                "unknown behaviour `{}` (expected one of: {})",
+                "unknown behaviour `{}` (expected one of: {}, or {PROFILE_KEY})",
                 name.escape_debug(),
                 names(&mut BEHAVIOURS.iter().map(|d| d.name))
+            ),
+            BehaviourError::UnknownProfile(name) => write!(
+                f,
+                "unknown behaviour profile `{}` (expected one of: {})",
+                name.escape_debug(),
+                names(&mut PROFILES.iter().map(|p| p.name))
             ),
             BehaviourError::UnknownOption { switch, option } => {
                 let def = BehaviourDef::find(switch).expect("a known switch");
@@ -440,9 +513,18 @@ impl std::str::FromStr for BehaviourSetting {
 }
 
 impl BehaviourSetting {
-    /// Switch `name` set to `option`, both checked against [`BEHAVIOURS`] (exact names: a
-    /// `[behaviour]` key or a Python `behaviour={NAME: OPTION}`).
+    /// Switch `name` set to `option`, both checked against [`BEHAVIOURS`], or `profile` set to
+    /// one of [`PROFILES`] (exact names: a `[behaviour]` key or a Python
+    /// `behaviour={NAME: OPTION}`).
     pub fn new(name: &str, option: &str) -> Result<Self, BehaviourError> {
+        if name == PROFILE_KEY {
+            let profile = BehaviourProfile::find(option)
+                .ok_or_else(|| BehaviourError::UnknownProfile(option.to_string()))?;
+            return Ok(BehaviourSetting {
+                name: PROFILE_KEY,
+                option: profile.name,
+            });
+        }
         let def =
             BehaviourDef::find(name).ok_or_else(|| BehaviourError::UnknownSwitch(name.into()))?;
         let option = def.option_names().find(|o| *o == option).ok_or_else(|| {
@@ -472,8 +554,17 @@ impl Behaviours {
         Some(BEHAVIOURS[i].options[self.options[i] as usize].0)
     }
 
-    /// Sets switch `name` to `option`.
+    /// Sets switch `name` to `option`; `profile` (`PROFILE_KEY`) sets the switches of the
+    /// profile `option` names.
     pub fn set(&mut self, name: &str, option: &str) -> Result<(), BehaviourError> {
+        if name == PROFILE_KEY {
+            let profile = BehaviourProfile::find(option)
+                .ok_or_else(|| BehaviourError::UnknownProfile(option.to_string()))?;
+            for (switch, option) in profile.settings {
+                self.set(switch, option)?;
+            }
+            return Ok(());
+        }
         let i = BEHAVIOURS
             .iter()
             .position(|d| d.name == name)
@@ -497,10 +588,12 @@ impl Behaviours {
         self.set(setting.name, setting.option)
     }
 
-    /// These behaviours with `settings` applied in order (`--behaviour` over a scene's
-    /// `[behaviour]`).
+    /// These behaviours with `settings` applied (`--behaviour` over a scene's `[behaviour]`):
+    /// profiles first, then the switches, each in order.
     pub fn with(mut self, settings: &[BehaviourSetting]) -> Behaviours {
-        for s in settings {
+        let (profiles, switches): (Vec<&BehaviourSetting>, Vec<_>) =
+            settings.iter().partition(|s| s.name == PROFILE_KEY);
+        for s in profiles.into_iter().chain(switches) {
             self.set(s.name, s.option)
                 .expect("a BehaviourSetting names a switch and one of its options");
         }
@@ -598,5 +691,67 @@ mod tests {
         let e = b.apply("specular_fog=\x1b[2J").unwrap_err().to_string();
         assert!(!e.contains('\x1b'), "{e}");
         assert_eq!(b, Behaviours::default());
+    }
+
+    /// Every profile names known switches and options, each switch once; applying one sets
+    /// exactly its switches.
+    #[test]
+    fn profiles_set_their_switches_and_only_those() {
+        for p in &PROFILES {
+            assert!(!p.sources.is_empty(), "{}", p.name);
+            let mut names: Vec<_> = p.settings.iter().map(|s| s.0).collect();
+            names.sort();
+            names.dedup();
+            assert_eq!(names.len(), p.settings.len(), "{}: a switch twice", p.name);
+            let mut b = Behaviours::default();
+            for def in &BEHAVIOURS {
+                // Start every switch away from the profile's option where it has another.
+                let other = def
+                    .option_names()
+                    .find(|o| p.settings.iter().all(|(n, opt)| *n != def.name || opt != o));
+                b.set(def.name, other.unwrap()).unwrap();
+            }
+            let before = b;
+            b.set(PROFILE_KEY, p.name).unwrap();
+            for def in &BEHAVIOURS {
+                let set = p.settings.iter().find(|s| s.0 == def.name);
+                match set {
+                    Some((_, option)) => assert_eq!(b.get(def.name), Some(*option), "{}", p.name),
+                    None => assert_eq!(b.get(def.name), before.get(def.name), "{}", p.name),
+                }
+            }
+        }
+        assert!(BehaviourProfile::find(PROFILE_KEY).is_none());
+        assert!(
+            BehaviourDef::find(PROFILE_KEY).is_none(),
+            "profile is no switch"
+        );
+    }
+
+    /// `profile=NAME` is applied before the switches beside it, wherever it stands.
+    #[test]
+    fn a_profile_comes_before_the_switches_beside_it() {
+        let parse = |v: &[&str]| -> Vec<BehaviourSetting> {
+            v.iter().map(|s| s.parse().unwrap()).collect()
+        };
+        let b = Behaviours::default().with(&parse(&["minimum_size=none", "profile=wine"]));
+        assert_eq!(b.minimum_size(), MinimumSize::None);
+        assert_eq!(b.depth_clip(), DepthClip::ClippingIgnored);
+        let b = Behaviours::default().with(&parse(&["profile=d3d9on12"]));
+        assert_eq!(b.minimum_size(), MinimumSize::OnePixel);
+        assert_eq!(b.depth_clip(), DepthClip::ClippingState);
+        assert_eq!(b.specular_fog(), SpecularFog::Unclamped, "not named: kept");
+        let e = BehaviourSetting::new("profile", "xp")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "unknown behaviour profile `xp` (expected one of: windows, warp, d3d9on12, wine, dxvk)"
+        );
+        let e = Behaviours::default()
+            .apply("fog=on")
+            .unwrap_err()
+            .to_string();
+        assert!(e.ends_with(", or profile)"), "{e}");
     }
 }

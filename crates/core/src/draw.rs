@@ -6,8 +6,10 @@
 //! [`Backend::draw_points`](crate::device::Backend::draw_points); backends and tests read these
 //! instead of resolving the states again, so every user of a rule reads one definition.
 
-use crate::behaviour::{BehaviourSet, DepthClip, PointSizeMaxDefault};
-use crate::fog::FogSource;
+use crate::behaviour::{
+    BehaviourSet, DepthClip, PointSizeMaxDefault, PretransformedTableFog, TableFogDepth,
+};
+use crate::fog::{FogSource, is_affine, table_distance};
 use crate::fvf::Fvf;
 use crate::pixel::{BlendClass, PixelSetup};
 use crate::point::{PointSetup, clamp_bounds, depth_clipped};
@@ -47,7 +49,10 @@ impl<'a> DrawSetup<'a> {
     /// SPECULAR whose fog factor is the specular alpha, `fog_start_equals_end` for LINEAR fog
     /// with FOGSTART == FOGEND, `zero_rhw` for pre-transformed vertices, `minimum_size` where
     /// the clamp allows sizes below one pixel, `point_size_max_default` where POINTSIZE_MAX
-    /// still holds this device's default and the two options' defaults differ, `depth_clip`
+    /// still holds this device's default and the two options' defaults differ,
+    /// `pretransformed_table_fog` for table fog of pre-transformed vertices whose distance the
+    /// options change, `table_fog_depth` for z-based table fog of transformed vertices under a
+    /// viewport MinZ..MaxZ other than 0..1, `depth_clip`
     /// where its options clip this draw's points differently ([`depth_clipped`]).
     pub fn behaviours_read(&self) -> BehaviourSet {
         let caps = self.state.caps.effective();
@@ -69,6 +74,32 @@ impl<'a> DrawSetup<'a> {
             };
             if formula == FogMode::Linear && f(RenderState::FOGSTART) == f(RenderState::FOGEND) {
                 set.insert("fog_start_equals_end");
+            }
+            if let FogSource::Table { .. } = fog.source {
+                let distance = |rhw, depth| {
+                    table_distance(
+                        caps.w_fog,
+                        is_affine(&self.state.projection),
+                        self.fvf.is_pretransformed(),
+                        rhw,
+                        depth,
+                    )
+                };
+                let own = self.state.behaviours.table_fog_depth();
+                if PretransformedTableFog::ALL
+                    .iter()
+                    .any(|&o| distance(o, own) != distance(PretransformedTableFog::ALL[0], own))
+                {
+                    set.insert("pretransformed_table_fog");
+                }
+                // Viewport depth and clip z are one number when MinZ..MaxZ is 0..1.
+                let vp = self.points.viewport();
+                let rhw = self.state.behaviours.pretransformed_table_fog();
+                if (vp.min_z, vp.max_z) != (0.0, 1.0)
+                    && distance(rhw, TableFogDepth::Viewport) != distance(rhw, TableFogDepth::ClipZ)
+                {
+                    set.insert("table_fog_depth");
+                }
             }
         }
         if self.fvf.is_pretransformed() {
@@ -119,6 +150,7 @@ mod tests {
     use super::*;
     use crate::behaviour::Behaviours;
     use crate::caps::Caps;
+    use crate::math::Mat4;
     use crate::states::Api;
 
     /// The switches a draw reads; POINTSIZE_MAX is set (to 100) unless `states` sets it, so
@@ -189,6 +221,55 @@ mod tests {
         assert!(
             read(&[zenable_off], xyz_ds).is_empty(),
             "transformed points are clipped under every option"
+        );
+    }
+
+    /// `pretransformed_table_fog` is read by table fog of pre-transformed points on a device with
+    /// WFOG (its options read 1 / RHW or Z); `table_fog_depth` by z-based table fog of
+    /// transformed points under a viewport depth range other than 0..1.
+    #[test]
+    fn table_fog_reads_its_distance_switches() {
+        let rhw_ds = Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+        let xyz_ds = Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+        let table = [
+            (RenderState::FOGENABLE, 1),
+            (RenderState::FOGTABLEMODE, FogMode::Linear as u32),
+        ];
+        assert_eq!(
+            read(&table, rhw_ds),
+            ["zero_rhw", "pretransformed_table_fog"]
+        );
+        let no_wfog = Caps {
+            w_fog: false,
+            ..Caps::reference()
+        };
+        assert_eq!(
+            read_with(Behaviours::default(), no_wfog, &table, rhw_ds),
+            ["zero_rhw"],
+            "every option reads Z"
+        );
+        assert!(read(&table, xyz_ds).is_empty(), "MinZ 0, MaxZ 1");
+        let ranged = |b: Behaviours, projection: Mat4, fvf: Fvf| {
+            let mut s = DeviceState::with_behaviours(Api::D3d9, Caps::reference(), b, 8, 8);
+            for &(k, v) in &table {
+                s.render_states[k.0 as usize] = v;
+            }
+            s.viewport.min_z = 0.5;
+            s.projection = projection;
+            let set = DrawSetup::new(&s, fvf).behaviours_read();
+            (
+                set.contains("table_fog_depth"),
+                set.contains("pretransformed_table_fog"),
+            )
+        };
+        let b = Behaviours::default();
+        assert_eq!(ranged(b, Mat4::IDENTITY, xyz_ds), (true, false));
+        let persp = Mat4::perspective_fov_lh(1.0, 1.0, 1.0, 100.0);
+        assert_eq!(ranged(b, persp, xyz_ds), (false, false), "w fog");
+        assert_eq!(
+            ranged(b, Mat4::IDENTITY, rhw_ds),
+            (false, true),
+            "Z either way"
         );
     }
 

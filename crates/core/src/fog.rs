@@ -5,7 +5,9 @@
 //! the point's factor ([`FogSetup::factor`]) and the pixel stage blends with [`fog_blend`].
 //! For a point every pixel has the same depth, so the factor is computed once per point.
 
-use crate::behaviour::{FogStartEqualsEnd, FogWithoutSpecular};
+use crate::behaviour::{
+    FogStartEqualsEnd, FogWithoutSpecular, PretransformedTableFog, TableFogDepth,
+};
 use crate::color::{Rgba, unpack};
 use crate::fvf::Fvf;
 use crate::math::Mat4;
@@ -29,13 +31,26 @@ pub enum FogSource {
         /// RANGEFOGENABLE.
         range: bool,
     },
-    /// Table (pixel) fog: `formula` of the point's clip-space w when `w`, else of its depth Z.
+    /// Table (pixel) fog: `formula` of the point's `distance`.
     Table {
         /// EXP, EXP2 or LINEAR.
         formula: FogMode,
-        /// Eye-relative (w) rather than z-based depth (SPEC 9.5).
-        w: bool,
+        /// Which distance (SPEC 9.5).
+        distance: TableDistance,
     },
+}
+
+/// The distance table fog reads (SPEC 9.5).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum TableDistance {
+    /// Eye-relative: the clip-space w (`1 / RHW` for pre-transformed vertices).
+    W,
+    /// z-based: the point's depth Z, after the viewport maps it to MinZ..MaxZ; a
+    /// pre-transformed vertex's Z.
+    Depth,
+    /// z-based before the viewport: clip-space `z / w` (the `clip_z` option of
+    /// `table_fog_depth`); a pre-transformed vertex's Z.
+    ClipZ,
 }
 
 /// The per-point part of a draw's fog, resolved (SPEC 9); `None` from [`FogSetup::new`] when
@@ -146,6 +161,40 @@ impl FogWithoutSpecular {
     }
 }
 
+/// A point's distances for table fog (SPEC 9.5).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct FogDepth {
+    /// The depth Z (SPEC 1), before the clamp of the depth written (SPEC 3.1).
+    pub z: f32,
+    /// The clip-space w; `1 / RHW` for a pre-transformed vertex (1 when RHW is 0).
+    pub w: f32,
+    /// Clip-space `z / w`; a pre-transformed vertex's Z.
+    pub clip_z: f32,
+}
+
+/// SPEC 9.5: the distance table fog reads. Eye-relative w when the caps have
+/// D3DPRASTERCAPS_WFOG (`w_fog`) and the projection is not `affine`, else z-based; the
+/// `pretransformed_table_fog` switch can make `pretransformed` draws read w or Z whatever the
+/// projection, and `table_fog_depth` says which z transformed points read.
+pub fn table_distance(
+    w_fog: bool,
+    affine: bool,
+    pretransformed: bool,
+    rhw: PretransformedTableFog,
+    depth: TableFogDepth,
+) -> TableDistance {
+    let w = match (pretransformed, rhw) {
+        (true, PretransformedTableFog::W) => w_fog,
+        (true, PretransformedTableFog::Z) => false,
+        _ => w_fog && !affine,
+    };
+    match (w, pretransformed, depth) {
+        (true, ..) => TableDistance::W,
+        (false, false, TableFogDepth::ClipZ) => TableDistance::ClipZ,
+        _ => TableDistance::Depth,
+    }
+}
+
 impl FogSetup {
     /// SPEC 9.1, 9.2: the fog of a draw of `fvf` vertices, `None` when FOGENABLE is off.
     pub fn new(state: &DeviceState, fvf: Fvf) -> Option<FogSetup> {
@@ -159,7 +208,13 @@ impl FogSetup {
         let source = if table != FogMode::None {
             FogSource::Table {
                 formula: table,
-                w: state.caps.effective().w_fog && !is_affine(&state.projection),
+                distance: table_distance(
+                    state.caps.effective().w_fog,
+                    is_affine(&state.projection),
+                    fvf.is_pretransformed(),
+                    state.behaviours.pretransformed_table_fog(),
+                    state.behaviours.table_fog_depth(),
+                ),
             }
         } else if vertex != FogMode::None && !fvf.is_pretransformed() {
             FogSource::Vertex {
@@ -187,10 +242,10 @@ impl FogSetup {
     }
 
     /// SPEC 9.2-9.5: the fog factor of one point. `eye` is its eye-space position (untransformed
-    /// vertices; unused otherwise), `z` its depth Z, `w` its clip-space w (1 / RHW for
-    /// pre-transformed vertices) and `specular` its SPECULAR, if the vertex has one.
+    /// vertices; unused otherwise), `depth` its distances for table fog and `specular` its
+    /// SPECULAR, if the vertex has one.
     #[inline]
-    pub fn factor(&self, eye: [f32; 3], z: f32, w: f32, specular: Option<u32>) -> f32 {
+    pub fn factor(&self, eye: [f32; 3], depth: &FogDepth, specular: Option<u32>) -> f32 {
         match self.source {
             FogSource::SpecularAlpha { without } => {
                 specular.map_or(without.factor(), |s| unpack(s)[3])
@@ -203,8 +258,13 @@ impl FogSetup {
                 };
                 fog_factor(formula, d, &self.params)
             }
-            FogSource::Table { formula, w: use_w } => {
-                fog_factor(formula, if use_w { w } else { z }, &self.params)
+            FogSource::Table { formula, distance } => {
+                let d = match distance {
+                    TableDistance::W => depth.w,
+                    TableDistance::Depth => depth.z,
+                    TableDistance::ClipZ => depth.clip_z,
+                };
+                fog_factor(formula, d, &self.params)
             }
         }
     }
@@ -229,6 +289,11 @@ mod tests {
         }
         state.projection = *projection;
         FogSetup::new(&state, fvf)
+    }
+
+    /// Table fog distances of a point with depth `z` and w `w` (clip z = z: MinZ 0, MaxZ 1).
+    fn at(z: f32, w: f32) -> FogDepth {
+        FogDepth { z, w, clip_z: z }
     }
 
     fn setup(states: &[(RenderState, u32)], fvf: Fvf, projection: &Mat4) -> Option<FogSetup> {
@@ -298,7 +363,7 @@ mod tests {
                 t(&[ON, vertex_linear, table_exp, range], fvf),
                 FogSource::Table {
                     formula: FogMode::Exp,
-                    w: false
+                    distance: TableDistance::Depth
                 }
             );
         }
@@ -311,11 +376,11 @@ mod tests {
         );
         let s = setup(&[ON], XYZ_DS, &Mat4::IDENTITY).unwrap();
         assert_eq!(
-            s.factor([0.0; 3], 0.5, 1.0, Some(0x8000_0000)),
+            s.factor([0.0; 3], &at(0.5, 1.0), Some(0x8000_0000)),
             128.0 / 255.0
         );
         // SPEC 9.2, `fog_without_specular`: no SPECULAR fogs completely, or not at all.
-        assert_eq!(s.factor([0.0; 3], 0.5, 1.0, None), 0.0);
+        assert_eq!(s.factor([0.0; 3], &at(0.5, 1.0), None), 0.0);
         let unfogged = (RenderState::FOGENABLE, 1);
         let mut state = DeviceState::new(Api::D3d9, Caps::reference(), 64, 64);
         state.render_states[unfogged.0.0 as usize] = unfogged.1;
@@ -324,9 +389,9 @@ mod tests {
             .apply("fog_without_specular=unfogged")
             .unwrap();
         let s = FogSetup::new(&state, RHW_DS).unwrap();
-        assert_eq!(s.factor([0.0; 3], 0.5, 1.0, None), 1.0);
+        assert_eq!(s.factor([0.0; 3], &at(0.5, 1.0), None), 1.0);
         assert_eq!(
-            s.factor([0.0; 3], 0.5, 1.0, Some(0x4000_0000)),
+            s.factor([0.0; 3], &at(0.5, 1.0), Some(0x4000_0000)),
             64.0 / 255.0
         );
     }
@@ -352,7 +417,7 @@ mod tests {
             FogSetup::new(&s, XYZ_DS).unwrap()
         };
         // Vertex fog reads |Ze|, table fog the depth Z (identity projection: both 0.25 here).
-        let near = |s: FogSetup| s.factor([0.0, 0.0, 0.25], 0.25, 1.0, None);
+        let near = |s: FogSetup| s.factor([0.0, 0.0, 0.25], &at(0.25, 1.0), None);
         for (option, vertex, table) in [
             ("vertex_fogged_table_step", 0.0, 1.0),
             ("fogged", 0.0, 0.0),
@@ -409,11 +474,11 @@ mod tests {
             (RenderState::FOGEND, 10.0f32.to_bits()),
         ];
         let s = setup(&linear, XYZ_DS, &Mat4::IDENTITY).unwrap();
-        assert_eq!(s.factor([3.0, 0.0, -4.0], 0.0, 0.0, None), 0.6);
+        assert_eq!(s.factor([3.0, 0.0, -4.0], &at(0.0, 0.0), None), 0.6);
         let mut ranged = linear.to_vec();
         ranged.push((RenderState::RANGEFOGENABLE, 1));
         let s = setup(&ranged, XYZ_DS, &Mat4::IDENTITY).unwrap();
-        assert_eq!(s.factor([3.0, 0.0, -4.0], 0.0, 0.0, None), 0.5);
+        assert_eq!(s.factor([3.0, 0.0, -4.0], &at(0.0, 0.0), None), 0.5);
     }
 
     /// Wine fog_test's orthogonal projection (z-based: 0x00e51900 at Z = 0.1) and
@@ -429,13 +494,13 @@ mod tests {
             [0.0, 0.0, -1.0, 1.0],
         ]);
         let s = setup(&table, XYZ_DS, &ortho).unwrap();
-        let f = s.factor([0.0; 3], 0.1, 1.0, None);
+        let f = s.factor([0.0; 3], &at(0.1, 1.0), None);
         let c = pack(fog_blend(unpack(0xFFFF_0000), f, &unpack(0xFF00_FF00)));
         assert!(close(c, 0xFFE5_1900), "{c:08x}");
         let s = setup(&table, RHW_DS, &Mat4::IDENTITY).unwrap();
         assert_eq!(
-            s.factor([0.0; 3], 0.7, 1.0 / 0.3, None),
-            s.factor([0.0; 3], 0.7, 1.0, None)
+            s.factor([0.0; 3], &at(0.7, 1.0 / 0.3), None),
+            s.factor([0.0; 3], &at(0.7, 1.0), None)
         );
         let persp = Mat4::perspective_fov_lh(1.0, 1.0, 1.0, 100.0);
         let s = setup(&table, XYZ_DS, &persp).unwrap();
@@ -443,7 +508,7 @@ mod tests {
             s.source,
             FogSource::Table {
                 formula: FogMode::Linear,
-                w: true
+                distance: TableDistance::W
             }
         );
         let caps = Caps {
@@ -455,8 +520,73 @@ mod tests {
             no_wfog.source,
             FogSource::Table {
                 formula: FogMode::Linear,
-                w: false
+                distance: TableDistance::Depth
             }
         );
+    }
+
+    /// SPEC 9.5's switches: `pretransformed_table_fog` (Wine test_fog: 1 / RHW under a
+    /// projection that is not affine, Z under an affine one; DXVK master: always 1 / RHW) and
+    /// `table_fog_depth` (the depth after the viewport, or clip z / w before it).
+    #[test]
+    fn spec_9_5_table_fog_distance_switches() {
+        use PretransformedTableFog as P;
+        use TableDistance as D;
+        use TableFogDepth as T;
+        let d = |w_fog, affine, pretransformed, rhw, depth| {
+            table_distance(w_fog, affine, pretransformed, rhw, depth)
+        };
+        for (rhw, affine, expected) in [
+            (P::Projection, false, D::W),
+            (P::Projection, true, D::Depth),
+            (P::W, true, D::W),
+            (P::W, false, D::W),
+            (P::Z, false, D::Depth),
+            (P::Z, true, D::Depth),
+        ] {
+            for depth in T::ALL.iter().copied() {
+                assert_eq!(
+                    d(true, affine, true, rhw, depth),
+                    expected,
+                    "{rhw:?} {affine}"
+                );
+                assert_eq!(d(false, affine, true, rhw, depth), D::Depth, "no WFOG cap");
+            }
+            // Transformed points follow the projection whatever the pre-transformed option.
+            let own = if affine { D::Depth } else { D::W };
+            assert_eq!(d(true, affine, false, rhw, T::Viewport), own);
+        }
+        assert_eq!(d(true, true, false, P::Projection, T::ClipZ), D::ClipZ);
+        assert_eq!(d(true, false, false, P::Projection, T::ClipZ), D::W);
+        // The factor reads the chosen distance: viewport MinZ 0.5 puts clip z 0.5 at depth 0.75.
+        let mut state = DeviceState::new(Api::D3d9, Caps::reference(), 8, 8);
+        for (k, v) in [
+            (RenderState::FOGENABLE, 1),
+            (RenderState::FOGTABLEMODE, FogMode::Linear as u32),
+        ] {
+            state.render_states[k.0 as usize] = v;
+        }
+        let point = FogDepth {
+            z: 0.75,
+            w: 1.0,
+            clip_z: 0.5,
+        };
+        let viewport = FogSetup::new(&state, XYZ_DS).unwrap();
+        assert_eq!(viewport.factor([0.0; 3], &point, None), 0.25);
+        state.behaviours.set("table_fog_depth", "clip_z").unwrap();
+        let clip = FogSetup::new(&state, XYZ_DS).unwrap();
+        assert_eq!(clip.factor([0.0; 3], &point, None), 0.5);
+        state.projection = Mat4::perspective_fov_lh(1.0, 1.0, 1.0, 100.0);
+        state
+            .behaviours
+            .set("pretransformed_table_fog", "z")
+            .unwrap();
+        let rhw = FogSetup::new(&state, RHW_DS).unwrap();
+        let far = FogDepth {
+            z: 0.25,
+            w: 5.0,
+            clip_z: 0.25,
+        };
+        assert_eq!(rhw.factor([0.0; 3], &far, None), 0.75);
     }
 }

@@ -7,7 +7,7 @@
 
 use crate::behaviour::{DepthClip, MinimumSize, ZeroRhw};
 use crate::caps::{Caps, VertexProcessing};
-use crate::fog::FogSetup;
+use crate::fog::{FogDepth, FogSetup};
 use crate::fvf::{Fvf, Layout, read_f32, read_u32};
 use crate::light::LightSetup;
 use crate::math::Mat4;
@@ -604,10 +604,15 @@ impl PointSetup {
             }
             None => (diffuse, specular),
         };
+        let depth = FogDepth {
+            z,
+            w,
+            clip_z: clip.map_or(z, |c| c[2] / c[3]),
+        };
         let fog = self
             .fog
             .as_ref()
-            .map_or(1.0, |f| f.factor(eye, z, w, vertex_specular));
+            .map_or(1.0, |f| f.factor(eye, &depth, vertex_specular));
         let mut point = ScreenPoint {
             x,
             y,

@@ -400,7 +400,7 @@ fn fog_factor(d: f32) -> f32 {
 
 // FogSetup::factor (SPEC 9.2 to 9.5): FOG_SOURCE 1 is the specular alpha, 2 vertex fog, 3
 // table fog.
-fn point_fog(eye: vec3f, z: f32, w: f32, specular: u32) -> f32 {
+fn point_fog(eye: vec3f, z: f32, w: f32, clip_z: f32, specular: u32) -> f32 {
     if FOG_SOURCE == 1u {
         if HAS_SPECULAR {
             return unpack_color(specular).a;
@@ -414,7 +414,14 @@ fn point_fog(eye: vec3f, z: f32, w: f32, specular: u32) -> f32 {
         return fog_factor(abs(eye.z));
     }
     if FOG_SOURCE == 3u {
-        return fog_factor(select(z, w, FOG_W));
+        // core TableDistance: FOG_DISTANCE 0 the depth Z, 1 w, 2 clip z / w.
+        if FOG_DISTANCE == 1u {
+            return fog_factor(w);
+        }
+        if FOG_DISTANCE == 2u {
+            return fog_factor(clip_z);
+        }
+        return fog_factor(z);
     }
     return 1.0;
 }
@@ -443,6 +450,7 @@ fn point_stage(index: u32) -> Point {
     var p: Point;
     var eye = vec4f(0.0);
     var w = 0.0;
+    var clip_z = 0.0;
     if PRETRANSFORMED {
         // core PointSetup::keeps_pretransformed (SPEC 3.1): RHW positive, or 0 or -0 drawn as
         // RHW 1 under ZERO_RHW_DRAWN; under depth clipping 0 <= Z <= 1.
@@ -459,6 +467,7 @@ fn point_stage(index: u32) -> Point {
         }
         p.size = final_size(si, 0.0);
         w = select(1.0 / pos.w, 1.0, zero);
+        clip_z = p.z;
     } else {
         // SPEC 3.1: subnormal coordinates count as zero, on every GPU (the uniforms' matrices
         // come flushed from core::point).
@@ -480,6 +489,7 @@ fn point_stage(index: u32) -> Point {
         p.size = final_size(si, de);
         p.clip = c;
         w = c.w;
+        clip_z = c.z / c.w;
     }
     if !(finite(p.x) && finite(p.y) && finite(p.z)) {
         return dropped();
@@ -503,7 +513,7 @@ fn point_stage(index: u32) -> Point {
     if HAS_SPECULAR {
         p.specular = word(base + SPECULAR_AT);
     }
-    p.fog = point_fog(eye.xyz, p.z, w, p.specular);
+    p.fog = point_fog(eye.xyz, p.z, w, clip_z, p.specular);
     // core written_depth (SPEC 3.1): the depth tested and written is Z clamped to 0..1 (-0 kept).
     p.z = select(select(p.z, 1.0, p.z > 1.0), 0.0, p.z < 0.0);
     if LIT {

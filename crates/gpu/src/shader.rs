@@ -24,7 +24,7 @@ use pointillist_core::states::{
 };
 
 use pointillist_core::color::WHITE;
-use pointillist_core::fog::FogSource;
+use pointillist_core::fog::{FogSource, TableDistance};
 use pointillist_core::light::ColorSource;
 use pointillist_core::states::FogMode;
 use pointillist_core::texture::COORD_LIMIT;
@@ -434,11 +434,21 @@ fn header(key: &PipelineKey, out: &mut String) {
     };
     // core FogSource as numbers: 0 none, 1 specular alpha, 2 vertex fog, 3 table fog, and the
     // formula's D3DFOGMODE.
-    let (fog_source, fog_formula, fog_range, fog_w) = match key.fog {
-        None => (0, FogMode::None, false, false),
-        Some(FogSource::SpecularAlpha { .. }) => (1, FogMode::None, false, false),
-        Some(FogSource::Vertex { formula, range }) => (2, formula, range, false),
-        Some(FogSource::Table { formula, w }) => (3, formula, false, w),
+    // core TableDistance as numbers: 0 the depth Z, 1 w, 2 clip z / w.
+    let (fog_source, fog_formula, fog_range, fog_distance) = match key.fog {
+        None => (0, FogMode::None, false, 0),
+        Some(FogSource::SpecularAlpha { .. }) => (1, FogMode::None, false, 0),
+        Some(FogSource::Vertex { formula, range }) => (2, formula, range, 0),
+        Some(FogSource::Table { formula, distance }) => (
+            3,
+            formula,
+            false,
+            match distance {
+                TableDistance::Depth => 0,
+                TableDistance::W => 1,
+                TableDistance::ClipZ => 2,
+            },
+        ),
     };
     // core FogWithoutSpecular::factor (SPEC 9.2).
     let fog_without_specular = match key.fog {
@@ -519,7 +529,7 @@ fn header(key: &PipelineKey, out: &mut String) {
         ("FOG_SOURCE", "u32", format!("{fog_source}u")),
         ("FOG_FORMULA", "u32", format!("{}u", fog_formula as u32)),
         ("FOG_RANGE", "bool", fog_range.to_string()),
-        ("FOG_W", "bool", fog_w.to_string()),
+        ("FOG_DISTANCE", "u32", format!("{fog_distance}u")),
         (
             "FOG_WITHOUT_SPECULAR",
             "f32",

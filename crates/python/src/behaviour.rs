@@ -2,7 +2,7 @@
 //! behaviours") and `pointillist.behaviours()`, core's table as Python values.
 
 use pointillist_core::behaviour::{
-    BEHAVIOURS, BehaviourDef, BehaviourError, BehaviourSetting, Behaviours,
+    BEHAVIOURS, BehaviourDef, BehaviourError, BehaviourSetting, Behaviours, PROFILE_KEY, PROFILES,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -11,8 +11,9 @@ use pyo3::types::{PyDict, PyList, PyString};
 use crate::arrays::got;
 
 /// The `behaviour` argument: `None`, or a dict of switch names to options (str to str), each
-/// checked against core's table. The settings come in the dict's order, to be applied over a
-/// scene's `[behaviour]` table as `--behaviour` is ([`Behaviours::with`]).
+/// checked against core's table, and perhaps `"profile": NAME`. The settings come in the
+/// dict's order, to be applied over a scene's `[behaviour]` table as `--behaviour` is
+/// ([`Behaviours::with`]: the profile first).
 pub fn settings(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<BehaviourSetting>> {
     let Some(obj) = obj.filter(|o| !o.is_none()) else {
         return Ok(Vec::new());
@@ -25,11 +26,8 @@ pub fn settings(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<BehaviourSetting
         ))
     })?;
     let names = || {
-        BEHAVIOURS
-            .iter()
-            .map(|d| d.name)
-            .collect::<Vec<_>>()
-            .join(", ")
+        let switches = BEHAVIOURS.iter().map(|d| d.name).collect::<Vec<_>>();
+        format!("{}, or {PROFILE_KEY}", switches.join(", "))
     };
     let items = dict.items(); // a list: the checks below may run Python code (`repr`)
     let mut out = Vec::with_capacity(items.len());
@@ -43,18 +41,22 @@ pub fn settings(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<BehaviourSetting
             )));
         };
         let name = name.to_string_lossy();
-        let def = BehaviourDef::find(&name)
-            .ok_or_else(|| value_error(BehaviourError::UnknownSwitch(name.to_string())))?;
+        let (name, options): (&str, Vec<&str>) = if name == PROFILE_KEY {
+            (PROFILE_KEY, PROFILES.iter().map(|p| p.name).collect())
+        } else {
+            let def = BehaviourDef::find(&name)
+                .ok_or_else(|| value_error(BehaviourError::UnknownSwitch(name.to_string())))?;
+            (def.name, def.option_names().collect())
+        };
         let Ok(option) = value.cast::<PyString>() else {
             return Err(PyTypeError::new_err(format!(
-                "behaviour[\"{}\"] must be a str (expected one of: {}); got {}",
-                def.name,
-                def.option_names().collect::<Vec<_>>().join(", "),
+                "behaviour[\"{name}\"] must be a str (expected one of: {}); got {}",
+                options.join(", "),
                 got(&value)
             )));
         };
         let setting =
-            BehaviourSetting::new(def.name, &option.to_string_lossy()).map_err(value_error)?;
+            BehaviourSetting::new(name, &option.to_string_lossy()).map_err(value_error)?;
         out.push(setting);
     }
     Ok(out)
@@ -92,6 +94,29 @@ pub fn behaviours_table(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
                 effects.set_item(option, what)?;
             }
             dict.set_item("option_effects", effects)?;
+            Ok(dict)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    PyList::new(py, items)
+}
+
+/// Every profile as ``pointillist behaviours --profiles --json`` lists it: a list of dicts
+/// with ``name``, ``summary``, ``settings`` (a dict of switch names to options) and
+/// ``sources``.
+#[pyfunction]
+pub fn behaviour_profiles(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let items = PROFILES
+        .iter()
+        .map(|p| {
+            let dict = PyDict::new(py);
+            dict.set_item("name", p.name)?;
+            dict.set_item("summary", p.summary)?;
+            let settings = PyDict::new(py);
+            for (switch, option) in p.settings {
+                settings.set_item(switch, option)?;
+            }
+            dict.set_item("settings", settings)?;
+            dict.set_item("sources", p.sources.to_vec())?;
             Ok(dict)
         })
         .collect::<PyResult<Vec<_>>>()?;

@@ -600,6 +600,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::animate, m)?)?;
     m.add_function(wrap_pyfunction!(lanes, m)?)?;
     m.add_function(wrap_pyfunction!(behaviour::behaviours_table, m)?)?;
+    m.add_function(wrap_pyfunction!(behaviour::behaviour_profiles, m)?)?;
     m.add_function(wrap_pyfunction!(_partial, m)?)?;
     m.add_function(wrap_pyfunction!(_combine, m)?)?;
     m.add_function(wrap_pyfunction!(_counts, m)?)?;

@@ -13,7 +13,7 @@ from conftest import read_png, run_cli
 ONE = {"minimum_size": "one_pixel"}
 NAMES = (
     "specular_fog, fog_without_specular, minimum_size, fog_start_equals_end, zero_rhw, "
-    "point_size_max_default, depth_clip"
+    "point_size_max_default, depth_clip, pretransformed_table_fog, table_fog_depth"
 )
 
 
@@ -142,7 +142,7 @@ BAD = [
     (
         {"minimum": "one_pixel"},
         ValueError,
-        f"behaviour: unknown behaviour `minimum` (expected one of: {NAMES})",
+        f"behaviour: unknown behaviour `minimum` (expected one of: {NAMES}, or profile)",
     ),
     (
         {"minimum_size": "big"},
@@ -156,7 +156,19 @@ BAD = [
         "behaviour: unknown option ` one_pixel` of behaviour `minimum_size` (expected one of: "
         "none, one_pixel)",
     ),
-    ({1: "none"}, TypeError, f"behaviour key 1 is not a str (expected one of: {NAMES})"),
+    ({1: "none"}, TypeError, f"behaviour key 1 is not a str (expected one of: {NAMES}, or profile)"),
+    (
+        {"profile": "xp"},
+        ValueError,
+        "behaviour: unknown behaviour profile `xp` (expected one of: windows, warp, d3d9on12, "
+        "wine, dxvk)",
+    ),
+    (
+        {"profile": 1},
+        TypeError,
+        'behaviour["profile"] must be a str (expected one of: windows, warp, d3d9on12, wine, '
+        "dxvk); got 1",
+    ),
     (
         {"zero_rhw": 0},
         TypeError,
@@ -207,3 +219,25 @@ def test_behaviours_is_the_clis_table(cli):
     # A copy: changing it changes nothing of the next.
     table[2]["default"] = "one_pixel"
     assert pointillist.behaviours()[2]["default"] == "none"
+
+
+def test_a_profile_sets_its_switches_first_as_the_cli(cli):
+    # d3d9on12 draws sub-pixel points as one pixel (minimum_size = one_pixel); a switch beside
+    # it wins whatever the dict's order; behaviour_profiles() is the CLI's --profiles --json.
+    x, y = np.array([10.5], np.float32), np.array([5.5], np.float32)
+    kw = dict(size=0.0, color=0xFFFF0000, width=20, height=10)
+    assert lit(pointillist.points(x, y, behaviour={"profile": "d3d9on12"}, **kw)) == [(5, 10)]
+    for order in (
+        {"minimum_size": "none", "profile": "d3d9on12"},
+        {"profile": "d3d9on12", "minimum_size": "none"},
+    ):
+        assert lit(pointillist.points(x, y, behaviour=order, **kw)) == []
+    dev = pointillist.Device(4, 4, behaviour={"profile": "wine"})
+    assert dev.behaviour["depth_clip"] == "clipping_ignored"
+    assert dev.behaviour["table_fog_depth"] == "clip_z"
+    rc, out, err = run_cli(cli, "behaviours", "--profiles", "--json")
+    assert rc == 0, err
+    profiles = pointillist.behaviour_profiles()
+    assert profiles == json.loads(out)
+    assert [p["name"] for p in profiles] == ["windows", "warp", "d3d9on12", "wine", "dxvk"]
+    assert profiles[2]["settings"]["minimum_size"] == "one_pixel"

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pointillist_core::Viewport;
-use pointillist_core::behaviour::{BEHAVIOURS, Behaviours};
+use pointillist_core::behaviour::{BEHAVIOURS, Behaviours, PROFILE_KEY};
 use pointillist_core::caps::{Caps, VertexProcessing};
 use pointillist_core::states::Api;
 use pointillist_core::texture::Texture;
@@ -496,18 +496,21 @@ impl Parser<'_> {
     }
 
     /// `[behaviour]`: `NAME = "OPTION"` for the device behaviour switches (SPEC "Device
-    /// behaviours"), each name and option checked against core's table.
+    /// behaviours"), each name and option checked against core's table; `profile = "NAME"`
+    /// sets a profile's switches first.
     fn behaviours(&self, v: &Value<'_>) -> Result<Behaviours, SceneError> {
         let src = &self.src;
-        let names: Vec<&str> = BEHAVIOURS.iter().map(|d| d.name).collect();
+        let names: Vec<&str> = std::iter::once(PROFILE_KEY)
+            .chain(BEHAVIOURS.iter().map(|d| d.name))
+            .collect();
         let f = fields(src, v, "behaviour", &names)?;
         let mut behaviours = Behaviours::default();
-        for def in &BEHAVIOURS {
-            if let Some(v) = f.get(def.name) {
-                let path = f.path(def.name);
+        for name in names {
+            if let Some(v) = f.get(name) {
+                let path = f.path(name);
                 let option = string(src, v, &path)?;
                 behaviours
-                    .set(def.name, option)
+                    .set(name, option)
                     .map_err(|e| src.error(&v.span(), &path, e.to_string()))?;
             }
         }

@@ -79,6 +79,22 @@ fn behaviour_table_sets_switches_and_names_bad_ones() {
     );
 }
 
+/// SPEC 10: `profile` in `[behaviour]` sets a profile's switches before the switches beside
+/// it, whatever the key order; an unknown profile names the line, key and the profiles.
+#[test]
+fn behaviour_table_takes_a_profile() {
+    let s = ok("[behaviour]\nminimum_size = \"none\"\nprofile = \"wine\"\n");
+    assert_eq!(s.behaviours.get("minimum_size"), Some("none"));
+    assert_eq!(s.behaviours.get("depth_clip"), Some("clipping_ignored"));
+    assert_eq!(s.device_desc().behaviours, s.behaviours);
+    let e = err("[behaviour]\nprofile = \"xp\"\n");
+    assert_eq!(
+        e,
+        "tests/data/test.toml:6:11: behaviour.profile: unknown behaviour profile `xp` \
+         (expected one of: windows, warp, d3d9on12, wine, dxvk)"
+    );
+}
+
 /// SPEC 2.6: `point_size_max_default` is set by `[behaviour]`; the scene's device is created
 /// with it, so its POINTSIZE_MAX starts at the caps' limit instead of 64.
 #[test]

@@ -5,6 +5,10 @@ cases!("9-fog":
     fog_without_specular_unfogged,
     over_bright_specular_sum_clamped_under_the_clamped_behaviour,
     over_bright_specular_sum_is_fogged_unclamped,
+    pretransformed_table_fog_reads_w_under_a_perspective_projection,
+    pretransformed_table_fog_reads_w_under_the_w_behaviour,
+    pretransformed_table_fog_reads_z_under_an_affine_projection,
+    pretransformed_table_fog_reads_z_under_the_z_behaviour,
     pretransformed_vertex_fog_reads_specular_alpha,
     range_fog_is_for_vertex_fog_only,
     specular_alpha_when_both_modes_are_none,
@@ -16,4 +20,6 @@ cases!("9-fog":
     table_fog_w_under_a_perspective_projection,
     table_fog_wins_and_reads_z,
     table_fog_z_under_an_orthogonal_projection,
+    z_table_fog_reads_clip_z_under_the_clip_z_behaviour,
+    z_table_fog_reads_the_depth_after_the_viewport,
 );

@@ -37,6 +37,7 @@ __all__ = [
     "Image",
     "SceneError",
     "animate",
+    "behaviour_profiles",
     "behaviours",
     "lanes",
     "points",
@@ -164,5 +165,15 @@ def behaviours():
     ``default``, ``evidence`` (the grade of the default's evidence), ``sources``, ``summary``,
     ``rule`` (the SPEC rule) and ``option_effects`` (what each option draws). Set them with
     ``behaviour={name: option}`` on :func:`points`, :class:`Device`, :func:`render_scene`,
-    :func:`animate` and :func:`pointillist.dask.points`."""
+    :func:`animate` and :func:`pointillist.dask.points`; ``{"profile": name}`` sets a
+    profile's switches first (:func:`behaviour_profiles`)."""
     return _native.behaviours_table()
+
+
+def behaviour_profiles():
+    """The behaviour profiles: one name for the options a source shows for a whole device
+    (docs/spec/SPEC.md, "Device behaviours"), as ``pointillist behaviours --profiles --json``
+    lists them. A list of dicts with ``name``, ``summary``, ``settings`` (a dict of switch
+    names to options: the switches the profile sets) and ``sources``. ``behaviour={"profile":
+    name, ...}`` sets a profile's switches before the switches beside it."""
+    return _native.behaviour_profiles()

@@ -68,6 +68,12 @@ def animate(
 def lanes() -> str:
     """The vector level of the CPU backend's wide spans."""
 
+def behaviours() -> list[dict[str, object]]:
+    """The device behaviour switches, as ``pointillist behaviours --json`` lists them."""
+
+def behaviour_profiles() -> list[dict[str, object]]:
+    """The behaviour profiles, as ``pointillist behaviours --profiles --json`` lists them."""
+
 class Device:
     """A Direct3D 9 device drawing point lists (IDirect3DDevice9's point calls)."""
 
