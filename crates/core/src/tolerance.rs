@@ -1,6 +1,8 @@
 //! How close two images of the same draws must be (SPEC 7): exact where no filtering or
-//! blending arithmetic is involved, 1/255 per channel otherwise. The one table the backend
-//! comparisons (`pointillist-testkit`) and the conformance kit (`pointillist-conformance`) use.
+//! blending arithmetic is involved, 1/255 per channel otherwise; against a device, lit and
+//! fogged draws within a step and filtered ones within its sub-texel precision. The one table
+//! the backend comparisons (`pointillist-testkit`) and the conformance kit
+//! (`pointillist-conformance`) use.
 
 use crate::draw::DrawSetup;
 use crate::fog::FogSource;
@@ -49,16 +51,7 @@ impl Tolerance {
 ///
 /// [`BlendClass::rounds`]: crate::pixel::BlendClass::rounds
 pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
-    let pixel = &draw.pixel;
-    let filters = pixel.stages[..pixel.stage_count]
-        .iter()
-        .enumerate()
-        .filter(|(_, st)| st.samples)
-        .any(|(i, _)| {
-            let s = SamplerDesc::from_states(&draw.state.sampler_states[i]);
-            is_linear(s.mag) || is_linear(s.min) || is_linear(s.mip)
-        });
-    if draw.blend.rounds() || filters || exponentials(draw) {
+    if draw.blend.rounds() || filter_weights(draw) > 0 || exponentials(draw) {
         Tolerance::Steps(1)
     } else {
         Tolerance::Exact
@@ -71,14 +64,56 @@ pub fn draw_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
 /// (linear fog at f = 0.3 of 255 is 76.5), round-to-nearest-even, round-half-up and a one-ULP
 /// difference in the arithmetic before it each give a correct device one step apart from
 /// pointillist. pointillist's own backends stay as strict as [`draw_tolerance`].
+///
+/// A draw that filters a texture linearly is compared within what a device's sub-texel
+/// precision allows ([`filtering_steps`]).
 pub fn device_tolerance(draw: &DrawSetup<'_>) -> Tolerance {
     let lit_or_fogged = draw.points.lighting().is_some() || draw.points.fog().is_some();
-    let own = draw_tolerance(draw);
+    let mut own = draw_tolerance(draw);
     if lit_or_fogged {
-        own.max(Tolerance::Steps(1))
-    } else {
-        own
+        own = own.max(Tolerance::Steps(1));
     }
+    match filter_weights(draw) {
+        0 => own,
+        weights => own.max(Tolerance::Steps(filtering_steps(weights))),
+    }
+}
+
+/// The fractional bits of the texel position (and of the mip level) a device's filter weights
+/// are guaranteed to resolve: Direct3D 10's `D3D10_SUBTEXEL_FRACTIONAL_BIT_COUNT`, 6 (Direct3D 11
+/// raised it to 8; D3D9 states none), the finest precision pointillist assumes of a D3D9-class
+/// device (SPEC 7).
+pub const SUBTEXEL_BITS: u32 = 6;
+
+/// SPEC 7: how many 1/255 steps a device's linear filter may lie from pointillist's when each
+/// of its `weights` interpolation weights (two for bilinear, one more for a linear blend of mip
+/// levels) is resolved to [`SUBTEXEL_BITS`]: every weight off by up to `2^-6` moves the colour
+/// by up to 255 / 64 steps between the most different texels, plus one for the final rounding.
+pub fn filtering_steps(weights: u32) -> u8 {
+    let steps = (255 * weights).div_ceil(1 << SUBTEXEL_BITS) + 1;
+    steps.min(255) as u8
+}
+
+/// The interpolation weights of the draw's most linearly filtering sampling stage: two for a
+/// linear MIN or MAG filter (bilinear), one more for MIPFILTER LINEAR; 0 when every stage
+/// samples by points.
+fn filter_weights(draw: &DrawSetup<'_>) -> u32 {
+    let pixel = &draw.pixel;
+    pixel.stages[..pixel.stage_count]
+        .iter()
+        .enumerate()
+        .filter(|(_, st)| st.samples)
+        .map(|(i, _)| {
+            let s = SamplerDesc::from_states(&draw.state.sampler_states[i]);
+            let bilinear = if is_linear(s.mag) || is_linear(s.min) {
+                2
+            } else {
+                0
+            };
+            bilinear + u32::from(is_linear(s.mip))
+        })
+        .max()
+        .unwrap_or(0)
 }
 
 /// True when `draw` lights with `pow` (a specular highlight or a spot light's falloff, SPEC 8.4,
@@ -179,5 +214,38 @@ mod tests {
         set(&mut s, RenderState::FOGENABLE, 0);
         set(&mut s, RenderState::LIGHTING, 1);
         assert_eq!(device(&s), Tolerance::Steps(1), "lit");
+    }
+
+    /// SPEC 7: against a device, a linearly filtered draw is compared within what 6 bits of
+    /// sub-texel precision allow (bilinear: 9 steps, with a linear mip blend: 13, a mip blend
+    /// alone: 5); point sampling stays exact; the backends' own comparison stays at one step.
+    #[test]
+    fn spec_7_a_device_filters_within_its_sub_texel_precision() {
+        assert_eq!(
+            (filtering_steps(1), filtering_steps(2), filtering_steps(3)),
+            (5, 9, 13)
+        );
+        let device = |s: &DeviceState| {
+            device_tolerance(&DrawSetup::new(s, Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0)))
+        };
+        let mut s = state();
+        s.textures[0] = Some(Arc::new(
+            crate::texture::Texture::from_argb(1, 1, vec![0]).expect("texture"),
+        ));
+        assert_eq!(device(&s), Tolerance::Exact, "point sampling");
+        let filter = |s: &mut DeviceState, k: SamplerState, f: TextureFilter| {
+            s.sampler_states[0][k.0 as usize] = f as u32
+        };
+        filter(&mut s, SamplerState::MIPFILTER, TextureFilter::Linear);
+        assert_eq!(device(&s), Tolerance::Steps(5), "mip blend");
+        filter(&mut s, SamplerState::MINFILTER, TextureFilter::Linear);
+        assert_eq!(device(&s), Tolerance::Steps(13), "trilinear");
+        filter(&mut s, SamplerState::MIPFILTER, TextureFilter::Point);
+        assert_eq!(device(&s), Tolerance::Steps(9), "bilinear");
+        assert_eq!(
+            tolerance(&s),
+            Tolerance::Steps(1),
+            "the backends stay within one"
+        );
     }
 }
