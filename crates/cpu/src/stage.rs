@@ -585,7 +585,8 @@ mod tests {
     /// The fast vertex processing and core's stage agree on which points survive and on every
     /// field the fills read, over pre-transformed and transformed formats, caps profiles, size
     /// and scale states, depth clipping (every `depth_clip` option, CLIPPING, ZENABLE and
-    /// CLIPTLVERTS), transforms, viewports and hostile vertices.
+    /// CLIPTLVERTS), both options of `pretransformed_point_scale` and `xyzw_input_w`,
+    /// transforms, viewports and hostile vertices.
     #[test]
     fn fast_vertex_processing_matches_core_process() {
         let mut rng = Rng(0xC0FF_EE00_D15E_A5E5);
@@ -605,6 +606,13 @@ mod tests {
             behaviours
                 .set("depth_clip", depth_clip[case / 7 % depth_clip.len()].0)
                 .unwrap();
+            // SPEC 2.2 and 3.1: scaled pre-transformed points, and XYZW's w read or not.
+            let scale_option = ["ignored", "screen_position"][case / 3 % 2];
+            behaviours
+                .set("pretransformed_point_scale", scale_option)
+                .unwrap();
+            let w_option = ["ignored", "used"][case / 5 % 2];
+            behaviours.set("xyzw_input_w", w_option).unwrap();
             let desc = DeviceDesc {
                 caps,
                 behaviours,
