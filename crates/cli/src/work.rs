@@ -7,7 +7,7 @@
 //! the limit, so that ordinary draws cost nothing more.
 
 use pointillist_core::fvf::read_f32;
-use pointillist_core::point::PointSetup;
+use pointillist_core::point::{PointSetup, screen_distance};
 use pointillist_core::{Backend, DeviceError, DrawSetup, RenderTarget};
 use rayon::prelude::*;
 
@@ -40,7 +40,7 @@ impl<B> Limited<B> {
 fn covered(s: &PointSetup, v: &[u8]) -> u64 {
     let layout = s.layout();
     let mut pos = [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), 1.0];
-    if layout.position_len == 4 {
+    if s.reads_input_w() {
         pos[3] = read_f32(v, 12);
     }
     if !pos.iter().all(|c| c.is_finite()) {
@@ -54,7 +54,8 @@ fn covered(s: &PointSetup, v: &[u8]) -> u64 {
         if !s.keeps_pretransformed(pos[2], pos[3]) {
             return 0;
         }
-        (pos[0], pos[1], s.size(si, 0.0))
+        let de = screen_distance(pos[0], pos[1], pos[2]);
+        (pos[0], pos[1], s.size(si, de))
     } else {
         match s.project(pos) {
             Some(p) => (p.x, p.y, s.size(si, p.eye_distance)),

@@ -649,6 +649,9 @@ fn behaviours_lists_every_switch_as_text_and_json() {
         "\"name\": \"point_size_max_default\"",
         "\"default\": \"sixty_four\"",
         "\"evidence\": \"documented\"",
+        "\"name\": \"pretransformed_point_scale\"",
+        "\"evidence\": \"microsoft-driver\"",
+        "\"name\": \"xyzw_input_w\"",
     ] {
         assert!(text.contains(needle), "lacks {needle}:\n{text}");
     }
@@ -659,6 +662,8 @@ fn behaviours_lists_every_switch_as_text_and_json() {
     assert!(text.contains("  fogged (default): "), "{text}");
     assert!(text.contains("point_size_max_default (SPEC 2.6)"), "{text}");
     assert!(text.contains("  sixty_four (default): 64.0"), "{text}");
+    assert!(text.contains("xyzw_input_w (SPEC 3.1, 8.3)"), "{text}");
+    assert!(text.contains("  screen_position: scaled by"), "{text}");
 }
 
 /// `--behaviour profile=NAME` sets a profile's switches before the switches beside it

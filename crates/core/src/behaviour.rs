@@ -189,6 +189,22 @@ switches! {
         /// Clip-space z / w, before the viewport.
         ClipZ,
     }
+    /// SPEC 2.2: POINTSCALEENABLE on pre-transformed (XYZRHW) points.
+    pretransformed_point_scale = 9, PretransformedPointScale {
+        /// Not scaled: the size is in pixels.
+        Ignored,
+        /// Scaled by SPEC 2.2's formula with `De` the length of the screen position (X, Y, Z)
+        /// ([`crate::point::screen_distance`]), as Wine and DXVK do.
+        ScreenPosition,
+    }
+    /// SPEC 3.1 and 8.3: the input w of an XYZW position under fixed-function vertex
+    /// processing.
+    xyzw_input_w = 10, XyzwInputW {
+        /// The input w is ignored: the position is (x, y, z, 1), as an XYZ one.
+        Ignored,
+        /// The position is (x, y, z, w), as DXVK takes it.
+        Used,
+    }
 }
 
 impl PointSizeMaxDefault {
@@ -202,7 +218,7 @@ impl PointSizeMaxDefault {
 }
 
 /// Every switch; the index of each is the one its accessor on [`Behaviours`] reads.
-pub const BEHAVIOURS: [BehaviourDef; 9] = [
+pub const BEHAVIOURS: [BehaviourDef; 11] = [
     BehaviourDef {
         name: "specular_fog",
         summary: "fog of a diffuse + specular sum above 1 (SPECULARENABLE and FOGENABLE)",
@@ -393,6 +409,52 @@ pub const BEHAVIOURS: [BehaviourDef; 9] = [
             "microsoft/D3D9On12 ShaderConv/psconv.cpp, CPSContext::ComputePixelFog: SV_Position.z, the depth after the viewport",
             "DXVK 2.6.2 d3d9_fixed_function.cpp and master d3d9_fixed_function_frag.glsl: gl_FragCoord.z, after the viewport's depth range",
             "Wine dlls/d3d9/tests/visual.c, test_fog: under MinZ 0, MaxZ 1 NVIDIA's fog reads the vertex output z (before the divide and the viewport), the others the pixel's Z; no record under another depth range",
+        ],
+    },
+    BehaviourDef {
+        name: "pretransformed_point_scale",
+        summary: "POINTSCALEENABLE on pre-transformed (XYZRHW) points",
+        rule: "SPEC 2.2",
+        options: &[
+            (
+                "ignored",
+                "not scaled: the size is in pixels, whatever POINTSCALEENABLE says",
+            ),
+            (
+                "screen_position",
+                "scaled by SPEC 2.2's formula with the viewport height and De = sqrt(X^2 + Y^2 + Z^2) of the screen position",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::MicrosoftDriver,
+        sources: &[
+            "Microsoft Point Sprites (Direct3D 9): for pre-transformed vertices \"the distance-based function is not applied and the point size is expressed in units of pixels\"",
+            "microsoft/D3D9On12 ShaderConverter/ShaderConv/gsconv.cpp: the point's PSIZE (or POINTSIZE), clamped, is its width in pixels; no distance term for pre-transformed draws",
+            "Wine dlls/wined3d/glsl_shader.c, shader_glsl_generate_ffp_vertex_shader (Wine 8): transformed vertices take ec_pos = (X, Y, Z, 1) and gl_PointSize = size / sqrt(c + l * length(ec_pos.xyz) + q * dot(ec_pos.xyz, ec_pos.xyz)), with utils.c get_pointsize's A, B, C divided by the viewport height squared",
+            "DXVK 2.6.2 src/d3d9/d3d9_fixed_function.cpp, GetPointSizeInfoVS, and master d3d9_fixed_function_vert.vert, calculatePointSize: De = |(X, Y, Z)| of the POSITIONT input, A, B, C divided by the viewport height squared (d3d9_device.cpp)",
+            "no hardware record known",
+        ],
+    },
+    BehaviourDef {
+        name: "xyzw_input_w",
+        summary: "the input w of an XYZW (D3DFVF_XYZW) position under fixed-function vertex processing",
+        rule: "SPEC 3.1, 8.3",
+        options: &[
+            (
+                "ignored",
+                "the input w is ignored: the position is (x, y, z, 1), as an XYZ one",
+            ),
+            (
+                "used",
+                "the position is (x, y, z, w): clip space, eye distance, lighting and fog see the given w",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Hardware,
+        sources: &[
+            "Wine dlls/d3d9/tests/visual.c, test_ffp_w: an XYZW (and a FLOAT4 POSITION) quad with w = 0.5 under identity matrices covers x = -0.5..0.5, and a WORLD translating x by 1 moves its edge to the centre's right, \"proving that the input W is 1.0, not 0.5\"; no broken(), no todo_wine",
+            "DXVK master src/d3d9/shaders/d3d9_fixed_function_vert.vert, transformVertex (`result.coord = in_Position0`, then times WorldView), and 2.6.2 d3d9_fixed_function.cpp, compileVS: the FLOAT4 position as given (used)",
+            "Wine dlls/wined3d/glsl_shader.c (Wine 8): gl_Position = projection * modelview * (x, y, z, w) (used; its eye position for size, lighting and fog is then divided by its w)",
         ],
     },
 ];

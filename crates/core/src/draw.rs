@@ -52,8 +52,10 @@ impl<'a> DrawSetup<'a> {
     /// still holds this device's default and the two options' defaults differ,
     /// `pretransformed_table_fog` for table fog of pre-transformed vertices whose distance the
     /// options change, `table_fog_depth` for z-based table fog of transformed vertices under a
-    /// viewport MinZ..MaxZ other than 0..1, `depth_clip`
-    /// where its options clip this draw's points differently ([`depth_clipped`]).
+    /// viewport MinZ..MaxZ other than 0..1, `depth_clip` where its options clip this draw's
+    /// points differently ([`depth_clipped`]), `pretransformed_point_scale` for pre-transformed
+    /// points under POINTSCALEENABLE (unless every size is one pixel), `xyzw_input_w` for XYZW
+    /// vertices.
     pub fn behaviours_read(&self) -> BehaviourSet {
         let caps = self.state.caps.effective();
         let rs = |s: RenderState| self.state.render_state(s);
@@ -104,6 +106,11 @@ impl<'a> DrawSetup<'a> {
         }
         if self.fvf.is_pretransformed() {
             set.insert("zero_rhw");
+            if rs(RenderState::POINTSCALEENABLE) != 0 && !self.points.is_single_pixel() {
+                set.insert("pretransformed_point_scale");
+            }
+        } else if self.fvf.layout().position_len == 4 {
+            set.insert("xyzw_input_w");
         }
         let clipped = |rule| {
             depth_clipped(
@@ -222,6 +229,27 @@ mod tests {
             read(&[zenable_off], xyz_ds).is_empty(),
             "transformed points are clipped under every option"
         );
+        let scale = (RenderState::POINTSCALEENABLE, 1);
+        assert_eq!(
+            read(&[scale], rhw_d),
+            ["zero_rhw", "pretransformed_point_scale"]
+        );
+        assert!(
+            read(&[scale], xyz_ds).is_empty(),
+            "transformed points are scaled under every option"
+        );
+        let single = Caps {
+            max_point_size: 1.0,
+            ..Caps::reference()
+        };
+        assert_eq!(
+            read_with(Behaviours::default(), single, &[scale], rhw_d),
+            ["zero_rhw"],
+            "every size is one pixel"
+        );
+        let xyzw = Fvf(Fvf::XYZW.0 | Fvf::DIFFUSE.0);
+        assert_eq!(read(&[], xyzw), ["xyzw_input_w"]);
+        assert_eq!(read(&[scale], xyzw), ["xyzw_input_w"]);
     }
 
     /// `pretransformed_table_fog` is read by table fog of pre-transformed points on a device with

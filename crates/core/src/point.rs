@@ -5,7 +5,7 @@
 //! single source of truth for SPEC sections 2 (size), 3 (clipping) and 4.1/4.3 (coverage,
 //! sprite coordinates).
 
-use crate::behaviour::{DepthClip, MinimumSize, ZeroRhw};
+use crate::behaviour::{DepthClip, MinimumSize, PretransformedPointScale, XyzwInputW, ZeroRhw};
 use crate::caps::{Caps, VertexProcessing};
 use crate::fog::{FogDepth, FogSetup};
 use crate::fvf::{Fvf, Layout, read_f32, read_u32};
@@ -31,6 +31,21 @@ pub struct PointScale {
 #[inline]
 pub fn scaled_size(si: f32, scale: &PointScale, de: f32) -> f32 {
     scale.viewport_height * si * (1.0 / (scale.a + scale.b * de + scale.c * de * de)).sqrt()
+}
+
+/// SPEC 2.2 under the `pretransformed_point_scale` behaviour `screen_position` (Wine's and
+/// DXVK's rule): the `De` of a pre-transformed point is the length of its screen position
+/// (X, Y, Z) as given, `sqrt(X^2 + Y^2 + Z^2)`, in the order of the eye distance's sum.
+#[inline]
+pub fn screen_distance(x: f32, y: f32, z: f32) -> f32 {
+    (x * x + y * y + z * z).sqrt()
+}
+
+/// SPEC 3.1 and 8.3 with the `xyzw_input_w` behaviour: true when a vertex's fourth position
+/// float is read: the RHW of a pre-transformed vertex, and the w of an XYZW one under `used`
+/// (under `ignored`, the default, an XYZW position is (x, y, z, 1), as hardware draws it).
+pub fn reads_input_w(fvf: Fvf, rule: XyzwInputW) -> bool {
+    fvf.layout().position_len == 4 && (fvf.is_pretransformed() || rule == XyzwInputW::Used)
 }
 
 /// SPEC 2.3: `lo = POINTSIZE_MIN`, `hi = min(max_point_size, POINTSIZE_MAX)`,
@@ -257,6 +272,8 @@ pub struct Projection {
 pub struct PointSetup {
     layout: Layout,
     pretransformed: bool,
+    /// The fourth position float is read ([`reads_input_w`]); otherwise w is 1.
+    input_w: bool,
     world: Mat4,
     world_view: Mat4,
     projection: Mat4,
@@ -312,13 +329,17 @@ impl PointSetup {
             clipping,
             rs(RenderState::ZENABLE) != 0,
         );
-        let scale =
-            (rs(RenderState::POINTSCALEENABLE) != 0 && !pretransformed).then(|| PointScale {
-                a: rf(RenderState::POINTSCALE_A),
-                b: rf(RenderState::POINTSCALE_B),
-                c: rf(RenderState::POINTSCALE_C),
-                viewport_height: vp.height as f32,
-            });
+        // SPEC 2.2: pre-transformed points are scaled only under the
+        // `pretransformed_point_scale` behaviour `screen_position`.
+        let scaled = !pretransformed
+            || state.behaviours.pretransformed_point_scale()
+                == PretransformedPointScale::ScreenPosition;
+        let scale = (rs(RenderState::POINTSCALEENABLE) != 0 && scaled).then(|| PointScale {
+            a: rf(RenderState::POINTSCALE_A),
+            b: rf(RenderState::POINTSCALE_B),
+            c: rf(RenderState::POINTSCALE_C),
+            viewport_height: vp.height as f32,
+        });
         // SPEC 3.1: the matrices a transformed vertex goes through, subnormal entries flushed.
         let world_view = state.world.mul(&state.view).flush_subnormals();
         let view_projection = state.view.mul(&state.projection);
@@ -352,6 +373,7 @@ impl PointSetup {
         PointSetup {
             layout: fvf.layout(),
             pretransformed,
+            input_w: reads_input_w(fvf, state.behaviours.xyzw_input_w()),
             world: state.world,
             world_view,
             projection: state.projection.flush_subnormals(),
@@ -407,9 +429,17 @@ impl PointSetup {
         &self.layout
     }
 
-    /// True for XYZRHW vertices: screen positions, never scaled or user-clipped (SPEC 2.2, 3.3).
+    /// True for XYZRHW vertices: screen positions, never user-clipped (SPEC 3.3), scaled only
+    /// under the `pretransformed_point_scale` behaviour `screen_position` (SPEC 2.2).
     pub fn is_pretransformed(&self) -> bool {
         self.pretransformed
+    }
+
+    /// True when the vertex's fourth position float is read (the RHW of XYZRHW, the w of XYZW
+    /// under the `xyzw_input_w` behaviour `used`); otherwise the position's w is 1
+    /// ([`reads_input_w`], SPEC 3.1, 8.3).
+    pub fn reads_input_w(&self) -> bool {
+        self.input_w
     }
 
     /// D3DTS_WORLD, for the vertex-position clip-plane test (SPEC 3.3).
@@ -562,7 +592,7 @@ impl PointSetup {
         let base = index as usize * self.layout.stride;
         let v = &vertices[base..base + self.layout.stride];
         let mut pos = [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), 1.0];
-        if self.layout.position_len == 4 {
+        if self.input_w {
             pos[3] = read_f32(v, 12);
         }
         if !pos.iter().all(|c| c.is_finite()) {
@@ -578,7 +608,8 @@ impl PointSetup {
                 return None;
             }
             let w = if rhw == 0.0 { 1.0 } else { 1.0 / rhw };
-            (x, y, z, self.size(si, 0.0), None, [0.0; 3], w)
+            let size = self.size(si, screen_distance(x, y, z));
+            (x, y, z, size, None, [0.0; 3], w)
         } else {
             let p = self.project(pos)?;
             let size = self.size(si, p.eye_distance);
@@ -859,6 +890,101 @@ mod tests {
             ..s
         };
         assert_eq!(scaled_size(1.0, &s, 4.0), 32.0); // Vh / De
+    }
+
+    /// SPEC 2.2 and `pretransformed_point_scale`: POINTSIZE 5 at the screen position
+    /// (16, 16, 0.5) in a 32-pixel-high viewport with A = 0, C = 4 is 5 pixels under `ignored`;
+    /// under `screen_position` De = |(16, 16, 0.5)| = 22.63 and the size is
+    /// 32 * 5 / sqrt(4 * 512.25) = 3.53 (Wine's 15..=17 in `pretransformed_points_are_never_scaled`).
+    #[test]
+    fn spec_2_2_pretransformed_point_scale_behaviour() {
+        assert_eq!(screen_distance(3.0, 4.0, 0.0), 5.0);
+        assert_eq!(screen_distance(-3.0, 0.0, -4.0), 5.0);
+        let mut state = DeviceState::new(crate::states::Api::D3d9, Caps::reference(), 32, 32);
+        state.render_states[RenderState::POINTSCALEENABLE.0 as usize] = 1;
+        state.render_states[RenderState::POINTSCALE_A.0 as usize] = 0.0f32.to_bits();
+        state.render_states[RenderState::POINTSCALE_C.0 as usize] = 4.0f32.to_bits();
+        state.render_states[RenderState::POINTSIZE.0 as usize] = 5.0f32.to_bits();
+        let vertex: Vec<u8> = [16.0f32, 16.0, 0.5, 1.0]
+            .iter()
+            .flat_map(|f| f.to_le_bytes())
+            .collect();
+        let ignored = PointSetup::new(&state, Fvf::XYZRHW);
+        assert!(ignored.scale().is_none());
+        let p = ignored.process(&vertex, 0).unwrap();
+        assert_eq!(
+            (p.size, p.rect),
+            (
+                5.0,
+                PixelRect {
+                    x0: 14,
+                    y0: 14,
+                    x1: 19,
+                    y1: 19
+                }
+            )
+        );
+        state
+            .behaviours
+            .apply("pretransformed_point_scale=screen_position")
+            .unwrap();
+        let scaled = PointSetup::new(&state, Fvf::XYZRHW);
+        let p = scaled.process(&vertex, 0).unwrap();
+        let de = (16.0f32 * 16.0 + 16.0 * 16.0 + 0.5 * 0.5).sqrt();
+        assert_eq!(p.size, 32.0 * 5.0 * (1.0 / (4.0 * de * de)).sqrt());
+        assert!((p.size - 3.5346).abs() < 1e-3, "{}", p.size);
+        assert_eq!(
+            p.rect,
+            PixelRect {
+                x0: 15,
+                y0: 15,
+                x1: 18,
+                y1: 18
+            }
+        );
+        // Scaling off: pixels, under either option.
+        state.render_states[RenderState::POINTSCALEENABLE.0 as usize] = 0;
+        assert_eq!(
+            PointSetup::new(&state, Fvf::XYZRHW)
+                .process(&vertex, 0)
+                .unwrap()
+                .size,
+            5.0
+        );
+    }
+
+    /// SPEC 3.1, 8.3 and `xyzw_input_w`: under `ignored` an XYZW vertex (0.5, 0, 0.5, 2) under
+    /// identity matrices is (0.5, 0, 0.5, 1), at X = 16 + 0.5 * 16 = 24 on a 32-wide viewport;
+    /// under `used` it is at X = 16 + 0.25 * 16 = 20; a w of 0 (or NaN) drops it only there.
+    #[test]
+    fn spec_3_1_xyzw_input_w_behaviour() {
+        let xyzw = Fvf::XYZW;
+        assert!(reads_input_w(Fvf::XYZRHW, XyzwInputW::Ignored));
+        assert!(!reads_input_w(xyzw, XyzwInputW::Ignored));
+        assert!(reads_input_w(xyzw, XyzwInputW::Used));
+        assert!(!reads_input_w(Fvf::XYZ, XyzwInputW::Used));
+        let bytes = |v: [f32; 4]| -> Vec<u8> { v.iter().flat_map(|f| f.to_le_bytes()).collect() };
+        let mut state = DeviceState::new(crate::states::Api::D3d9, Caps::reference(), 32, 32);
+        state.render_states[RenderState::LIGHTING.0 as usize] = 0;
+        let ignored = PointSetup::new(&state, xyzw);
+        assert!(!ignored.reads_input_w());
+        let p = ignored.process(&bytes([0.5, 0.0, 0.5, 2.0]), 0).unwrap();
+        assert_eq!((p.x, p.y, p.z), (24.0, 16.0, 0.5));
+        for w in [0.0, -1.0, f32::NAN] {
+            let p = ignored.process(&bytes([0.5, 0.0, 0.5, w]), 0).unwrap();
+            assert_eq!(p.x, 24.0, "w {w} is not read");
+        }
+        state.behaviours.apply("xyzw_input_w=used").unwrap();
+        let used = PointSetup::new(&state, xyzw);
+        assert!(used.reads_input_w());
+        let p = used.process(&bytes([0.5, 0.0, 0.5, 2.0]), 0).unwrap();
+        assert_eq!((p.x, p.y, p.z), (20.0, 16.0, 0.25));
+        for w in [0.0, -1.0, f32::NAN] {
+            assert!(
+                used.process(&bytes([0.5, 0.0, 0.5, w]), 0).is_none(),
+                "w {w}"
+            );
+        }
     }
 
     #[test]

@@ -9,7 +9,7 @@
 //! level the machine has: it drops the same points and gives the same squares, bit for bit.
 
 use pointillist_core::fvf::{read_f32, read_u32};
-use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint, written_depth};
+use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint, screen_distance, written_depth};
 use pointillist_core::states::Cmp;
 
 use crate::lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
@@ -101,8 +101,9 @@ impl SquareStage {
 pub(crate) struct VertexProcessing {
     stride: usize,
     pretransformed: bool,
-    /// Position floats: 4 (XYZRHW, XYZW) or 3 (XYZ, w = 1).
-    position_len: usize,
+    /// The fourth position float is read (XYZRHW, XYZW under `xyzw_input_w = used`); otherwise
+    /// w is 1 (`PointSetup::reads_input_w`).
+    input_w: bool,
     /// PSIZE's offset when the vertex's size is used; otherwise `Si` is `point_size`.
     psize: Option<usize>,
     point_size: f32,
@@ -168,7 +169,7 @@ impl VertexProcessing {
         Some(VertexProcessing {
             stride: layout.stride,
             pretransformed: points.is_pretransformed(),
-            position_len: layout.position_len,
+            input_w: points.reads_input_w(),
             psize,
             point_size: points.point_size(),
             size: (psize.is_none() && (points.scale().is_none() || single_pixel))
@@ -199,7 +200,7 @@ impl VertexProcessing {
                 let f = |k: usize| {
                     f32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]])
                 };
-                let w = if self.position_len == 4 { f(3) } else { 1.0 };
+                let w = if self.input_w { f(3) } else { 1.0 };
                 [f(0), f(1), f(2), w]
             }
             None => [read_f32(v, 0), read_f32(v, 4), read_f32(v, 8), 1.0],
@@ -219,7 +220,7 @@ impl VertexProcessing {
             if !points.keeps_pretransformed(z, rhw) {
                 return None;
             }
-            (x, y, z, size(0.0))
+            (x, y, z, size(screen_distance(x, y, z)))
         } else {
             let p = points.project(position)?;
             if ![p.x, p.y, p.z].iter().all(|c| c.is_finite()) {
@@ -374,7 +375,7 @@ impl VertexProcessing {
                 l.bits_as_float(field!(0)),
                 l.bits_as_float(field!(4)),
                 l.bits_as_float(field!(8)),
-                if self.position_len == 4 {
+                if self.input_w {
                     l.bits_as_float(field!(12))
                 } else {
                     l.splat(1.0)
@@ -399,7 +400,14 @@ impl VertexProcessing {
                     keep = l.and(keep, l.cmp(Cmp::LessEqual, zero, pz));
                     keep = l.and(keep, l.cmp(Cmp::LessEqual, pz, l.splat(1.0)));
                 }
-                (px, py, pz, zero)
+                // `screen_distance`: De of a pre-transformed point, read only when it is scaled
+                // (the `pretransformed_point_scale` behaviour `screen_position`).
+                let de = if scale.is_some() {
+                    l.sqrt(l.add(l.add(l.mul(px, px), l.mul(py, py)), l.mul(pz, pz)))
+                } else {
+                    zero
+                };
+                (px, py, pz, de)
             } else {
                 // `PointSetup::project`: clip w positive and finite, the depth inside
                 // `0..=w` under depth clipping, a finite screen position.
@@ -577,7 +585,8 @@ mod tests {
     /// The fast vertex processing and core's stage agree on which points survive and on every
     /// field the fills read, over pre-transformed and transformed formats, caps profiles, size
     /// and scale states, depth clipping (every `depth_clip` option, CLIPPING, ZENABLE and
-    /// CLIPTLVERTS), transforms, viewports and hostile vertices.
+    /// CLIPTLVERTS), both options of `pretransformed_point_scale` and `xyzw_input_w`,
+    /// transforms, viewports and hostile vertices.
     #[test]
     fn fast_vertex_processing_matches_core_process() {
         let mut rng = Rng(0xC0FF_EE00_D15E_A5E5);
@@ -597,6 +606,13 @@ mod tests {
             behaviours
                 .set("depth_clip", depth_clip[case / 7 % depth_clip.len()].0)
                 .unwrap();
+            // SPEC 2.2 and 3.1: scaled pre-transformed points, and XYZW's w read or not.
+            let scale_option = ["ignored", "screen_position"][case / 3 % 2];
+            behaviours
+                .set("pretransformed_point_scale", scale_option)
+                .unwrap();
+            let w_option = ["ignored", "used"][case / 5 % 2];
+            behaviours.set("xyzw_input_w", w_option).unwrap();
             let desc = DeviceDesc {
                 caps,
                 behaviours,

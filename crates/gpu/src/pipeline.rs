@@ -161,6 +161,9 @@ pub(crate) struct PipelineKey {
     pub fog_step: bool,
     /// A pre-transformed point with RHW 0 or -0 is drawn (core `PointSetup::zero_rhw_drawn`).
     pub zero_rhw_drawn: bool,
+    /// The fourth position float is read: RHW, or XYZW's w under `xyzw_input_w = used` (core
+    /// `PointSetup::reads_input_w`, SPEC 3.1, 8.3).
+    pub input_w: bool,
 }
 
 /// The switches of core's `LightSetup` that shape the shader; the colours, lights and matrices
@@ -231,6 +234,7 @@ impl PipelineKey {
             fog: points.fog().map(|f| f.source),
             fog_step: points.fog().is_some_and(|f| f.params.step),
             zero_rhw_drawn: points.zero_rhw_drawn(),
+            input_w: points.reads_input_w(),
         }
     }
 

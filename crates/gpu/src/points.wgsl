@@ -436,8 +436,8 @@ fn fog_blend(c: vec4f, f: f32) -> vec4f {
 fn point_stage(index: u32) -> Point {
     let base = index * STRIDE;
     var pos = vec4f(wordf(base), wordf(base + 1u), wordf(base + 2u), 1.0);
-    if POSITION_WORDS == 4u {
-        pos.w = wordf(base + 3u);
+    if INPUT_W {
+        pos.w = wordf(base + 3u); // RHW, or XYZW's w under xyzw_input_w = used
     }
     if !finite4(pos) {
         return dropped(); // SPEC 3.1
@@ -465,7 +465,9 @@ fn point_stage(index: u32) -> Point {
         if !kept || (depth_clip && !(0.0 <= p.z && p.z <= 1.0)) {
             return dropped();
         }
-        p.size = final_size(si, 0.0);
+        // core screen_distance (SPEC 2.2): De of a pre-transformed point, scaled only under
+        // pretransformed_point_scale = screen_position (SCALE).
+        p.size = final_size(si, sqrt(p.x * p.x + p.y * p.y + p.z * p.z));
         w = select(1.0 / pos.w, 1.0, zero);
         clip_z = p.z;
     } else {

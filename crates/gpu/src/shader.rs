@@ -471,7 +471,8 @@ fn header(key: &PipelineKey, out: &mut String) {
             "bool",
             key.fvf.is_pretransformed().to_string(),
         ),
-        ("POSITION_WORDS", "u32", format!("{}u", layout.position_len)),
+        // core PointSetup::reads_input_w (SPEC 3.1, 8.3): otherwise the position's w is 1.
+        ("INPUT_W", "bool", key.input_w.to_string()),
         ("STRIDE", "u32", format!("{}u", layout.stride / 4)),
         ("VERTEX_SIZE", "bool", key.vertex_size.to_string()),
         ("PSIZE_AT", "u32", format!("{}u", word(layout.psize))),

@@ -13,7 +13,8 @@ from conftest import read_png, run_cli
 ONE = {"minimum_size": "one_pixel"}
 NAMES = (
     "specular_fog, fog_without_specular, minimum_size, fog_start_equals_end, zero_rhw, "
-    "point_size_max_default, depth_clip, pretransformed_table_fog, table_fog_depth"
+    "point_size_max_default, depth_clip, pretransformed_table_fog, table_fog_depth, "
+    "pretransformed_point_scale, xyzw_input_w"
 )
 
 
@@ -66,6 +67,8 @@ def test_device_takes_the_switches_and_reports_them():
         "zero_rhw": "drawn",
         "point_size_max_default": "sixty_four",
         "depth_clip": "vertex_processing",
+        "pretransformed_point_scale": "ignored",
+        "xyzw_input_w": "ignored",
     }
 
 

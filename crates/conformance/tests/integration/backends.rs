@@ -343,6 +343,101 @@ fn spec_2_2_point_scale_with_a_subnormal_attenuation() {
     );
 }
 
+/// SPEC 2.2 and `pretransformed_point_scale`: pre-transformed points with PSIZE under
+/// POINTSCALEENABLE, on both backends under each option; under `screen_position` the sizes
+/// follow the screen position's length (the image differs from `ignored`'s).
+#[test]
+fn spec_2_2_pretransformed_point_scale_behaviour() {
+    let mut r = Rng(2_207);
+    let pts: Vec<XyzRhwPsizeDiffuse> = (0..200)
+        .map(|_| XyzRhwPsizeDiffuse {
+            position: [
+                r.range(-8.0, 168.0),
+                r.range(-8.0, 138.0),
+                r.range(0.0, 1.0),
+                1.0,
+            ],
+            psize: r.range(0.0, 24.0),
+            diffuse: r.color() | 0xFF00_0000,
+        })
+        .collect();
+    let scene = |d: &mut AnyDevice| {
+        d.set_viewport(Viewport {
+            x: 10,
+            y: 6,
+            width: 140,
+            height: 110,
+            min_z: 0.0,
+            max_z: 1.0,
+        })?;
+        d.set_render_state(RenderState::POINTSCALEENABLE, true);
+        d.set_render_state(RenderState::POINTSCALE_A, 0.5f32);
+        d.set_render_state(RenderState::POINTSCALE_B, 0.25f32);
+        d.set_render_state(RenderState::POINTSCALE_C, 0.0625f32);
+        d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+        d.draw_vertices(&pts)
+    };
+    let mut images = Vec::new();
+    for option in ["ignored", "screen_position"] {
+        let mut desc = DeviceDesc::new(160, 130);
+        desc.behaviours
+            .set("pretransformed_point_scale", option)
+            .unwrap();
+        check_desc(
+            &format!("spec_2_2_pretransformed_scale_{option}"),
+            desc,
+            Tolerance::Exact,
+            scene,
+        );
+        images.push(pointillist_testkit::cpu(desc, &scene).color);
+    }
+    assert_ne!(images[0], images[1], "the option changes the sizes");
+}
+
+/// SPEC 3.1, 8.3 and `xyzw_input_w`: XYZW points whose w is 0.5, 2, 0, negative or NaN, under
+/// a perspective projection, on both backends under each option (`ignored` draws them as XYZ
+/// points; `used` moves, resizes or drops them).
+#[test]
+fn spec_3_1_xyzw_input_w_behaviour() {
+    let mut r = Rng(3_108);
+    let mut vertices = Vec::new();
+    for k in 0..120 {
+        let z = r.range(1.5, 30.0);
+        let w = [0.5, 2.0, 0.0, -1.0, f32::NAN, 1.0, 0.75, 1.5][k % 8];
+        vertices.extend(words(&[
+            f(r.range(-z, z)),
+            f(r.range(-z, z)),
+            f(z),
+            f(w),
+            f(r.range(1.0, 12.0)),
+            r.color() | 0xFF00_0000,
+        ]));
+    }
+    let fvf = Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+    let scene = |d: &mut AnyDevice| {
+        perspective(d, 1.0);
+        d.set_render_state(RenderState::POINTSCALEENABLE, true);
+        d.set_render_state(RenderState::POINTSCALE_A, 0.0f32);
+        d.set_render_state(RenderState::POINTSCALE_B, 0.0f32);
+        d.set_render_state(RenderState::POINTSCALE_C, 1.0f32);
+        d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+        d.draw_point_list(fvf, &vertices)
+    };
+    let mut images = Vec::new();
+    for option in ["ignored", "used"] {
+        let mut desc = DeviceDesc::new(128, 128);
+        desc.behaviours.set("xyzw_input_w", option).unwrap();
+        check_desc(
+            &format!("spec_3_1_xyzw_input_w_{option}"),
+            desc,
+            Tolerance::Exact,
+            scene,
+        );
+        images.push(pointillist_testkit::cpu(desc, &scene).color);
+    }
+    assert_ne!(images[0], images[1], "the option moves the points");
+}
+
 #[test]
 fn spec_3_1_depth_and_w_clipping() {
     let pts = [

@@ -56,22 +56,37 @@ cases!("3-clipping":
     vertex_position_clip_under_perspective_dropped,
     vertex_position_clip_under_perspective_kept,
     wholly_outside_point_is_dropped,
+    xyzw_input_w_is_ignored,
+    xyzw_input_w_used_under_the_used_behaviour,
 );
 
 /// SPEC 3.1: a transformed vertex's subnormal coordinates count as zero. An XYZW point with
 /// w = 1e-45 through a WORLD whose last row scales w by 3.4e38 has w = 0 and is dropped, on
 /// every backend (GPU vertex stages flush the subnormal; the CPU once computed w = 4.8e-7 and
-/// drew the point at a depth of 2.8 million); with w = 1e-37, a normal float, it is drawn.
+/// drew the point at a depth of 2.8 million); with w = 1e-37, a normal float, it is drawn. The
+/// input w is read under the `xyzw_input_w` behaviour `used` (DXVK's); under the default,
+/// `ignored`, the w is 1 and the point is drawn whatever the w says.
 #[test]
 fn subnormal_coordinates_count_as_zero() {
     use crate::common::*;
-    use pointillist_core::TransformType;
     use pointillist_core::fvf::Fvf;
     use pointillist_core::math::Mat4;
     use pointillist_core::states::RenderState;
+    use pointillist_core::{Behaviours, DeviceDesc, TransformType};
 
-    for (w, visible) in [(1e-45f32, false), (-1e-45, false), (1e-37, true)] {
-        let mut d = dev(32, 24);
+    for (option, w, visible) in [
+        ("used", 1e-45f32, false),
+        ("used", -1e-45, false),
+        ("used", 1e-37, true),
+        ("ignored", 1e-45, true),
+        ("ignored", -1e-45, true),
+    ] {
+        let mut behaviours = Behaviours::default();
+        behaviours.set("xyzw_input_w", option).unwrap();
+        let mut d = dev_desc(DeviceDesc {
+            behaviours,
+            ..DeviceDesc::new(32, 24)
+        });
         d.set_render_state(RenderState::CLIPPING, false);
         d.set_render_state(RenderState::ZFUNC, 8u32); // ALWAYS: any depth passes
         d.set_render_state(RenderState::POINTSIZE, 3.0f32);
@@ -81,7 +96,7 @@ fn subnormal_coordinates_count_as_zero() {
         let fvf = Fvf(Fvf::XYZW.0 | Fvf::DIFFUSE.0);
         draw(&mut d, fvf, &[f(0.0), f(0.0), f(2.638), f(w), WHITE]);
         let t = target(&mut d);
-        assert_eq!(!drawn(&t, BLACK).is_empty(), visible, "w = {w:e}");
+        assert_eq!(!drawn(&t, BLACK).is_empty(), visible, "{option}: w = {w:e}");
         assert!(
             t.depth
                 .iter()

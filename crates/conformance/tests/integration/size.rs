@@ -54,6 +54,7 @@ cases!("2-size":
     positive_infinity_clamps_to_the_caps_max,
     pretransformed_per_vertex_sizes_are_not_scaled,
     pretransformed_points_are_never_scaled,
+    pretransformed_points_scaled_by_screen_position_under_the_screen_position_behaviour,
     pretransformed_points_with_per_vertex_sizes,
     psize_ignored_without_the_cap,
     psize_ignored_without_the_cap_transformed,

@@ -37,9 +37,10 @@ pub const PROFILES: [BehaviourProfile; 5] = [
             ("zero_rhw", "drawn"),
             ("depth_clip", "vertex_processing"),
             ("pretransformed_table_fog", "projection"),
+            ("xyzw_input_w", "ignored"),
         ],
         sources: &[
-            "Wine dlls/d3d9/tests/visual.c: test_pointsize, fog_test, fog_special_test, test_fog, test_table_fog_zw, depth_clamp_test, z_range_test, zenable_test (no broken() for these drivers)",
+            "Wine dlls/d3d9/tests/visual.c: test_pointsize, fog_test, fog_special_test, test_fog, test_table_fog_zw, depth_clamp_test, z_range_test, zenable_test, test_ffp_w (no broken() for these drivers)",
             "DXVK issue 5470: native D3D9 on NVIDIA fogs a draw without SPECULAR completely",
         ],
     },
@@ -53,6 +54,7 @@ pub const PROFILES: [BehaviourProfile; 5] = [
             ("zero_rhw", "drawn"),
             ("depth_clip", "vertex_processing"),
             ("pretransformed_table_fog", "projection"),
+            ("xyzw_input_w", "ignored"),
         ],
         sources: &[
             "Wine dlls/d3d9/tests/visual.c, test_pointsize: \"WARP draws one pixel as if the point size was 1\" (broken(adapter_is_warp))",
@@ -69,8 +71,10 @@ pub const PROFILES: [BehaviourProfile; 5] = [
             ("depth_clip", "clipping_state"),
             ("pretransformed_table_fog", "projection"),
             ("table_fog_depth", "viewport"),
+            ("pretransformed_point_scale", "ignored"),
         ],
         sources: &[
+            "ShaderConverter/ShaderConv/gsconv.cpp: a pre-transformed point's clamped size is its width in pixels",
             "src/9on12VertexStage.cpp, VertexStage::SetPointSize: POINTSIZE_MIN stored as max(value, 1)",
             "src/9on12PixelStage.cpp and include/9on12PipelineStateStructures.h: DepthClipEnable = D3DRS_CLIPPING, off for pre-transformed draws without a depth buffer",
             "ShaderConverter/ShaderConv/psconv.cpp, ComputeFogBlend (factor 0 without a fog input) and ComputePixelFog (a step at FOGEND; SV_Position.z or .w); src/9on12PixelStage.cpp, UpdateWInfo",
@@ -89,6 +93,8 @@ pub const PROFILES: [BehaviourProfile; 5] = [
             ("depth_clip", "clipping_ignored"),
             ("pretransformed_table_fog", "z"),
             ("table_fog_depth", "clip_z"),
+            ("pretransformed_point_scale", "screen_position"),
+            ("xyzw_input_w", "used"),
         ],
         sources: &[
             "pointillist conform against Wine 8 (crates/conformance/expect/wine.toml, docs/CONFORMANCE.md): the behaviours its cases show",
@@ -107,9 +113,12 @@ pub const PROFILES: [BehaviourProfile; 5] = [
             ("point_size_max_default", "max_point_size"),
             ("depth_clip", "always"),
             ("table_fog_depth", "viewport"),
+            ("pretransformed_point_scale", "screen_position"),
+            ("xyzw_input_w", "used"),
         ],
         sources: &[
             "src/d3d9/d3d9_fixed_function.cpp: compilePS (the unclamped specular sum fogged), DoFixedFunctionFog (factor 1 without COLOR1; gl_FragCoord.z), GetPointSizeInfoVS (no minimum of 1)",
+            "src/d3d9/d3d9_fixed_function.cpp: GetPointSizeInfoVS (pre-transformed points scaled by their screen position), compileVS (the XYZW position as given)",
             "src/d3d9/d3d9_device.cpp: UpdatePushConstant<FogScale> (an infinite scale at FOGSTART == FOGEND: a step), ResetState (POINTSIZE_MAX = the largest size), setDepthClip(true); d3d9_fixed_function.cpp: RHW 0 as 1",
         ],
     },
