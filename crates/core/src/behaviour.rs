@@ -167,6 +167,23 @@ switches! {
         /// The `max_point_size` the pipeline applies (`Caps::effective`).
         MaxPointSize,
     }
+    /// SPEC 8.2: which enabled lights light a vertex when more are enabled than MaxActiveLights.
+    light_order = 7, LightOrder {
+        /// The enabled lights with the lowest indices.
+        LowestIndices,
+        /// Each enable takes the first free of MaxActiveLights slots; an enable that finds none
+        /// lights nothing until it is enabled again while a slot is free.
+        EnableOrder,
+    }
+    /// SPEC 8.4: the attenuation of a point or spot light where `1 / (att0 + att1 d + att2 d^2)`
+    /// overflows (all three attenuations 0).
+    zero_attenuation = 8, ZeroAttenuation {
+        /// Clamped to FLT_MAX: a light colour of 0 adds nothing, any other saturates.
+        FltMax,
+        /// Infinite, in IEEE arithmetic: a term of 0 times it is NaN, which poisons its channel's
+        /// sum, and a NaN channel is written as 0.
+        Infinite,
+    }
 }
 
 impl PointSizeMaxDefault {
@@ -180,7 +197,7 @@ impl PointSizeMaxDefault {
 }
 
 /// Every switch; the index of each is the one its accessor on [`Behaviours`] reads.
-pub const BEHAVIOURS: [BehaviourDef; 7] = [
+pub const BEHAVIOURS: [BehaviourDef; 9] = [
     BehaviourDef {
         name: "specular_fog",
         summary: "fog of a diffuse + specular sum above 1 (SPECULARENABLE and FOGENABLE)",
@@ -328,6 +345,50 @@ pub const BEHAVIOURS: [BehaviourDef; 7] = [
             "microsoft/D3D9On12 src/9on12PixelStage.cpp (DepthClipEnable = D3DRS_CLIPPING) and include/9on12PipelineStateStructures.h (off for pre-transformed draws without an enabled depth buffer)",
             "DXVK src/d3d9/d3d9_device.cpp: setDepthClip(true) for every draw",
             "Wine 8 d3d9 in pointillist's conformance kit: CLIPPING off under software vertex processing still clips (clipping_ignored)",
+        ],
+    },
+    BehaviourDef {
+        name: "light_order",
+        summary: "which enabled lights light a vertex when more lights are enabled than MaxActiveLights",
+        rule: "SPEC 8.2",
+        options: &[
+            (
+                "lowest_indices",
+                "the enabled lights with the lowest indices, at most MaxActiveLights",
+            ),
+            (
+                "enable_order",
+                "each LightEnable takes the first free of MaxActiveLights slots; one that finds none lights nothing, even after a slot frees, until it is enabled again while one is free",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Choice,
+        sources: &[
+            "no hardware record: Wine dlls/wined3d/stateblock.c, wined3d_light_state_enable_light: \"Our tests show that Windows returns D3D_OK in this situation ... GetLightEnable returns TRUE as well for those lights. TODO: Test how this affects rendering.\"",
+            "Wine dlls/wined3d/stateblock.c, wined3d_light_state_enable_light, and DXVK 2.6.2 src/d3d9/d3d9_device.cpp, D3D9DeviceEx::LightEnable: enable_order (the first free of the device's MaxActiveLights slots; no slot, no light)",
+            "DXVK master 8486e99bf (PR 5720, 2026, \"tracking enabled lights ... wasn't really working properly if the app set >8 lights\", fixing lighting in Sang-Froid: Tales of Werewolves): lowest_indices",
+        ],
+    },
+    BehaviourDef {
+        name: "zero_attenuation",
+        summary: "a point or spot light whose attenuation 1 / (att0 + att1 d + att2 d^2) overflows, as with all three attenuations 0",
+        rule: "SPEC 8.4",
+        options: &[
+            (
+                "flt_max",
+                "the attenuation is FLT_MAX: a light colour of 0 adds nothing, any other saturates the channel",
+            ),
+            (
+                "infinite",
+                "the attenuation is infinite: 0 times it is NaN, which poisons its channel (black), any other colour saturates; a vertex without NORMAL gets no diffuse or specular term",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Choice,
+        sources: &[
+            "no hardware record: Microsoft D3DLIGHT9, \"these members should not be set to 0.0 at the same time\"",
+            "DXVK 2.6.2 and master src/d3d9/d3d9_fixed_function.cpp, D3D9FFShaderCompiler: `atten = min(1 / atten, FLT_MAX)`: flt_max",
+            "Wine dlls/wined3d/glsl_shader.c, shader_glsl_ffp_vertex_lighting (and ffp_hlsl.c, generate_lighting): `att = 1.0 / dot(dst.xyz, attenuations)`, unclamped, then `clamp(ffp_varying_diffuse, 0.0, 1.0)`: infinite",
         ],
     },
 ];
