@@ -649,6 +649,11 @@ fn behaviours_lists_every_switch_as_text_and_json() {
         "\"name\": \"point_size_max_default\"",
         "\"default\": \"sixty_four\"",
         "\"evidence\": \"documented\"",
+        "\"name\": \"light_order\"",
+        "\"default\": \"lowest_indices\"",
+        "\"name\": \"zero_attenuation\"",
+        "\"default\": \"flt_max\"",
+        "\"evidence\": \"choice\"",
     ] {
         assert!(text.contains(needle), "lacks {needle}:\n{text}");
     }
@@ -659,6 +664,9 @@ fn behaviours_lists_every_switch_as_text_and_json() {
     assert!(text.contains("  fogged (default): "), "{text}");
     assert!(text.contains("point_size_max_default (SPEC 2.6)"), "{text}");
     assert!(text.contains("  sixty_four (default): 64.0"), "{text}");
+    assert!(text.contains("light_order (SPEC 8.2)"), "{text}");
+    assert!(text.contains("  enable_order: each LightEnable"), "{text}");
+    assert!(text.contains("zero_attenuation (SPEC 8.4)"), "{text}");
 }
 
 /// `render --behaviour`: an over-bright specular sum fogged unclamped by default, clamped with

@@ -380,13 +380,13 @@ pub const BEHAVIOURS: [BehaviourDef; 9] = [
             ),
             (
                 "infinite",
-                "the attenuation is infinite: 0 times it is NaN, which poisons its channel (black), any other colour saturates; a vertex without NORMAL gets no diffuse or specular term",
+                "the attenuation is infinite: 0 times it is NaN, which poisons its channel (written 0: black), any other colour saturates",
             ),
         ],
         default: 0,
         evidence: Evidence::Choice,
         sources: &[
-            "no hardware record: Microsoft D3DLIGHT9, \"these members should not be set to 0.0 at the same time\"",
+            "no hardware record: Microsoft D3DLIGHT9, Attenuation0..2: \"For non-directional lights, all three attenuation values should not be set to 0.0 simultaneously.\"",
             "DXVK 2.6.2 and master src/d3d9/d3d9_fixed_function.cpp, D3D9FFShaderCompiler: `atten = min(1 / atten, FLT_MAX)`: flt_max",
             "Wine dlls/wined3d/glsl_shader.c, shader_glsl_ffp_vertex_lighting (and ffp_hlsl.c, generate_lighting): `att = 1.0 / dot(dst.xyz, attenuations)`, unclamped, then `clamp(ffp_varying_diffuse, 0.0, 1.0)`: infinite",
         ],

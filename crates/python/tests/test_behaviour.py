@@ -13,7 +13,7 @@ from conftest import read_png, run_cli
 ONE = {"minimum_size": "one_pixel"}
 NAMES = (
     "specular_fog, fog_without_specular, minimum_size, fog_start_equals_end, zero_rhw, "
-    "point_size_max_default, depth_clip"
+    "point_size_max_default, depth_clip, light_order, zero_attenuation"
 )
 
 
@@ -66,6 +66,8 @@ def test_device_takes_the_switches_and_reports_them():
         "zero_rhw": "drawn",
         "point_size_max_default": "sixty_four",
         "depth_clip": "vertex_processing",
+        "light_order": "lowest_indices",
+        "zero_attenuation": "flt_max",
     }
 
 
