@@ -113,17 +113,21 @@ impl<'a> DrawSetup<'a> {
         {
             set.insert("point_size_max_default");
         }
-        if let Some(lighting) = self.points.lighting() {
+        if self.points.lighting().is_some() {
             // SPEC 8.2: the two orders pick other lights, or the same in another order (the
             // sums' rounding).
             let lights = &self.state.lights;
-            let picked = |order| lights.active(caps.max_active_lights, order).map(|(i, _)| i);
-            if !picked(LightOrder::LowestIndices).eq(picked(LightOrder::EnableOrder)) {
+            let picked = |order| lights.active(caps.max_active_lights, order);
+            let indices = |order| picked(order).map(|(i, _)| i);
+            if !indices(LightOrder::LowestIndices).eq(indices(LightOrder::EnableOrder)) {
                 set.insert("light_order");
             }
-            // SPEC 8.4: 1 / (att0 + att1 d + att2 d^2) can overflow only where 1 / att0 does.
-            if lighting.active_lights().iter().any(|l| {
-                l.light_type != LightType::Directional && (1.0 / l.attenuation[0]) > f32::MAX
+            // SPEC 8.4: 1 / (att0 + att1 d + att2 d^2) can overflow only where 1 / att0 does;
+            // under either order's lights.
+            if LightOrder::ALL.iter().any(|&order| {
+                picked(order).any(|(_, l)| {
+                    l.light_type != LightType::Directional && (1.0 / l.attenuation0) > f32::MAX
+                })
             }) {
                 set.insert("zero_attenuation");
             }
@@ -307,5 +311,14 @@ mod tests {
             s.render_states[RenderState::LIGHTING.0 as usize] = 0;
         };
         assert_eq!(lit(&unlit), (false, false), "LIGHTING off");
+        let waiting = |s: &mut DeviceState| {
+            (1..9).for_each(|i| s.lights.enable(i, true));
+            point(0.0)(s);
+        };
+        assert_eq!(
+            lit(&waiting),
+            (true, true),
+            "the light without attenuation lights only under lowest_indices"
+        );
     }
 }
