@@ -652,6 +652,11 @@ fn behaviours_lists_every_switch_as_text_and_json() {
         "\"name\": \"pretransformed_point_scale\"",
         "\"evidence\": \"microsoft-driver\"",
         "\"name\": \"xyzw_input_w\"",
+        "\"name\": \"light_order\"",
+        "\"default\": \"lowest_indices\"",
+        "\"name\": \"zero_attenuation\"",
+        "\"default\": \"flt_max\"",
+        "\"evidence\": \"choice\"",
     ] {
         assert!(text.contains(needle), "lacks {needle}:\n{text}");
     }
@@ -664,6 +669,9 @@ fn behaviours_lists_every_switch_as_text_and_json() {
     assert!(text.contains("  sixty_four (default): 64.0"), "{text}");
     assert!(text.contains("xyzw_input_w (SPEC 3.1, 8.3)"), "{text}");
     assert!(text.contains("  screen_position: scaled by"), "{text}");
+    assert!(text.contains("light_order (SPEC 8.2)"), "{text}");
+    assert!(text.contains("  enable_order: each LightEnable"), "{text}");
+    assert!(text.contains("zero_attenuation (SPEC 8.4)"), "{text}");
 }
 
 /// `--behaviour profile=NAME` sets a profile's switches before the switches beside it

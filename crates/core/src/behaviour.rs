@@ -205,6 +205,23 @@ switches! {
         /// The position is (x, y, z, w), as DXVK takes it.
         Used,
     }
+    /// SPEC 8.2: which enabled lights light a vertex when more are enabled than MaxActiveLights.
+    light_order = 11, LightOrder {
+        /// The enabled lights with the lowest indices.
+        LowestIndices,
+        /// Each enable takes the first free of MaxActiveLights slots; an enable that finds none
+        /// lights nothing until it is enabled again while a slot is free.
+        EnableOrder,
+    }
+    /// SPEC 8.4: the attenuation of a point or spot light where `1 / (att0 + att1 d + att2 d^2)`
+    /// overflows (all three attenuations 0).
+    zero_attenuation = 12, ZeroAttenuation {
+        /// Clamped to FLT_MAX: a light colour of 0 adds nothing, any other saturates.
+        FltMax,
+        /// Infinite, in IEEE arithmetic: a term of 0 times it is NaN, which poisons its channel's
+        /// sum, and a NaN channel is written as 0.
+        Infinite,
+    }
 }
 
 impl PointSizeMaxDefault {
@@ -218,7 +235,7 @@ impl PointSizeMaxDefault {
 }
 
 /// Every switch; the index of each is the one its accessor on [`Behaviours`] reads.
-pub const BEHAVIOURS: [BehaviourDef; 11] = [
+pub const BEHAVIOURS: [BehaviourDef; 13] = [
     BehaviourDef {
         name: "specular_fog",
         summary: "fog of a diffuse + specular sum above 1 (SPECULARENABLE and FOGENABLE)",
@@ -455,6 +472,50 @@ pub const BEHAVIOURS: [BehaviourDef; 11] = [
             "Wine dlls/d3d9/tests/visual.c, test_ffp_w: an XYZW (and a FLOAT4 POSITION) quad with w = 0.5 under identity matrices covers x = -0.5..0.5, and a WORLD translating x by 1 moves its edge to the centre's right, \"proving that the input W is 1.0, not 0.5\"; no broken(), no todo_wine",
             "DXVK master src/d3d9/shaders/d3d9_fixed_function_vert.vert, transformVertex (`result.coord = in_Position0`, then times WorldView), and 2.6.2 d3d9_fixed_function.cpp, compileVS: the FLOAT4 position as given (used)",
             "Wine dlls/wined3d/glsl_shader.c (Wine 8): gl_Position = projection * modelview * (x, y, z, w) (used; its eye position for size, lighting and fog is then divided by its w)",
+        ],
+    },
+    BehaviourDef {
+        name: "light_order",
+        summary: "which enabled lights light a vertex when more lights are enabled than MaxActiveLights",
+        rule: "SPEC 8.2",
+        options: &[
+            (
+                "lowest_indices",
+                "the enabled lights with the lowest indices, at most MaxActiveLights",
+            ),
+            (
+                "enable_order",
+                "each LightEnable takes the first free of MaxActiveLights slots; one that finds none lights nothing, even after a slot frees, until it is enabled again while one is free",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Choice,
+        sources: &[
+            "no hardware record: Wine dlls/wined3d/stateblock.c, wined3d_light_state_enable_light: \"Our tests show that Windows returns D3D_OK in this situation ... GetLightEnable returns TRUE as well for those lights. TODO: Test how this affects rendering.\"",
+            "Wine dlls/wined3d/stateblock.c, wined3d_light_state_enable_light, and DXVK 2.6.2 src/d3d9/d3d9_device.cpp, D3D9DeviceEx::LightEnable: enable_order (the first free of the device's MaxActiveLights slots; no slot, no light)",
+            "DXVK master 8486e99bf (PR 5720, 2026, \"tracking enabled lights ... wasn't really working properly if the app set >8 lights\", fixing lighting in Sang-Froid: Tales of Werewolves): lowest_indices",
+        ],
+    },
+    BehaviourDef {
+        name: "zero_attenuation",
+        summary: "a point or spot light whose attenuation 1 / (att0 + att1 d + att2 d^2) overflows, as with all three attenuations 0",
+        rule: "SPEC 8.4",
+        options: &[
+            (
+                "flt_max",
+                "the attenuation is FLT_MAX: a light colour of 0 adds nothing, any other saturates the channel",
+            ),
+            (
+                "infinite",
+                "the attenuation is infinite: 0 times it is NaN, which poisons its channel (written 0: black), any other colour saturates",
+            ),
+        ],
+        default: 0,
+        evidence: Evidence::Choice,
+        sources: &[
+            "no hardware record: Microsoft D3DLIGHT9, Attenuation0..2: \"For non-directional lights, all three attenuation values should not be set to 0.0 simultaneously.\"",
+            "DXVK 2.6.2 and master src/d3d9/d3d9_fixed_function.cpp, D3D9FFShaderCompiler: `atten = min(1 / atten, FLT_MAX)`: flt_max",
+            "Wine dlls/wined3d/glsl_shader.c, shader_glsl_ffp_vertex_lighting (and ffp_hlsl.c, generate_lighting): `att = 1.0 / dot(dst.xyz, attenuations)`, unclamped, then `clamp(ffp_varying_diffuse, 0.0, 1.0)`: infinite",
         ],
     },
 ];

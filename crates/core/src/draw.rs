@@ -7,10 +7,11 @@
 //! instead of resolving the states again, so every user of a rule reads one definition.
 
 use crate::behaviour::{
-    BehaviourSet, DepthClip, PointSizeMaxDefault, PretransformedTableFog, TableFogDepth,
+    BehaviourSet, DepthClip, LightOrder, PointSizeMaxDefault, PretransformedTableFog, TableFogDepth,
 };
 use crate::fog::{FogSource, is_affine, table_distance};
 use crate::fvf::Fvf;
+use crate::light::LightType;
 use crate::pixel::{BlendClass, PixelSetup};
 use crate::point::{PointSetup, clamp_bounds, depth_clipped};
 use crate::state::DeviceState;
@@ -55,7 +56,9 @@ impl<'a> DrawSetup<'a> {
     /// viewport MinZ..MaxZ other than 0..1, `depth_clip` where its options clip this draw's
     /// points differently ([`depth_clipped`]), `pretransformed_point_scale` for pre-transformed
     /// points under POINTSCALEENABLE (unless every size is one pixel), `xyzw_input_w` for XYZW
-    /// vertices.
+    /// vertices, `light_order` for a lit draw whose two orders pick other lights,
+    /// `zero_attenuation` for a lit draw with an active point or spot light whose attenuation
+    /// can overflow.
     pub fn behaviours_read(&self) -> BehaviourSet {
         let caps = self.state.caps.effective();
         let rs = |s: RenderState| self.state.render_state(s);
@@ -147,6 +150,25 @@ impl<'a> DrawSetup<'a> {
                 != hi_under(PointSizeMaxDefault::MaxPointSize)
         {
             set.insert("point_size_max_default");
+        }
+        if self.points.lighting().is_some() {
+            // SPEC 8.2: the two orders pick other lights, or the same in another order (the
+            // sums' rounding).
+            let lights = &self.state.lights;
+            let picked = |order| lights.active(caps.max_active_lights, order);
+            let indices = |order| picked(order).map(|(i, _)| i);
+            if !indices(LightOrder::LowestIndices).eq(indices(LightOrder::EnableOrder)) {
+                set.insert("light_order");
+            }
+            // SPEC 8.4: 1 / (att0 + att1 d + att2 d^2) can overflow only where 1 / att0 does;
+            // under either order's lights.
+            if LightOrder::ALL.iter().any(|&order| {
+                picked(order).any(|(_, l)| {
+                    l.light_type != LightType::Directional && (1.0 / l.attenuation0) > f32::MAX
+                })
+            }) {
+                set.insert("zero_attenuation");
+            }
         }
         set
     }
@@ -334,6 +356,78 @@ mod tests {
         assert_eq!(
             read_with(Behaviours::default(), software, &[max(64.0)], xyz),
             name
+        );
+    }
+
+    /// `light_order` is read where the two orders pick other lights; `zero_attenuation` where
+    /// an active point or spot light's attenuation can overflow (att0 below 1 / FLT_MAX).
+    #[test]
+    fn the_lighting_switches_are_read_where_they_can_change_pixels() {
+        use crate::light::{Light, LightType};
+        let normal = Fvf(Fvf::XYZ.0 | Fvf::NORMAL.0);
+        let lit = |prepare: &dyn Fn(&mut DeviceState)| {
+            let mut s = DeviceState::new(Api::D3d9, Caps::reference(), 8, 8);
+            s.render_states[RenderState::POINTSIZE_MAX.0 as usize] = 100.0f32.to_bits();
+            prepare(&mut s);
+            let set = DrawSetup::new(&s, normal).behaviours_read();
+            (
+                set.contains("light_order"),
+                set.contains("zero_attenuation"),
+            )
+        };
+        assert_eq!(lit(&|_| {}), (false, false), "no light");
+        let eight = |s: &mut DeviceState| (0..8).for_each(|i| s.lights.enable(i, true));
+        assert_eq!(
+            lit(&eight),
+            (false, false),
+            "eight lights: both orders pick 0..7"
+        );
+        assert_eq!(
+            lit(&|s| (0..9).for_each(|i| s.lights.enable(i, true))),
+            (false, false),
+            "nine enabled in index order: both pick 0..7"
+        );
+        assert_eq!(
+            lit(&|s| (0..9).rev().for_each(|i| s.lights.enable(i, true))),
+            (true, false),
+            "nine enabled from 8 down: 0..7 or 8..1"
+        );
+        assert_eq!(
+            lit(&|s| [1, 0].into_iter().for_each(|i| s.lights.enable(i, true))),
+            (true, false),
+            "the same lights in another order"
+        );
+        let point = |att0: f32| {
+            move |s: &mut DeviceState| {
+                let l = Light {
+                    range: 10.0,
+                    attenuation0: att0,
+                    attenuation1: 1.0,
+                    ..Light::zeroed(LightType::Point)
+                };
+                s.lights.set(0, l);
+                s.lights.enable(0, true);
+            }
+        };
+        assert_eq!(lit(&point(0.0)), (false, true));
+        assert_eq!(lit(&point(1e-39)), (false, true), "1 / 1e-39 overflows");
+        assert_eq!(lit(&point(1e-38)), (false, false));
+        let directional = |s: &mut DeviceState| s.lights.enable(0, true);
+        assert_eq!(lit(&directional), (false, false), "no attenuation");
+        let unlit = |s: &mut DeviceState| {
+            point(0.0)(s);
+            (0..9).rev().for_each(|i| s.lights.enable(i, true));
+            s.render_states[RenderState::LIGHTING.0 as usize] = 0;
+        };
+        assert_eq!(lit(&unlit), (false, false), "LIGHTING off");
+        let waiting = |s: &mut DeviceState| {
+            (1..9).for_each(|i| s.lights.enable(i, true));
+            point(0.0)(s);
+        };
+        assert_eq!(
+            lit(&waiting),
+            (true, true),
+            "the light without attenuation lights only under lowest_indices"
         );
     }
 }

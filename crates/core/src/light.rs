@@ -9,13 +9,16 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
+use crate::behaviour::{LightOrder, ZeroAttenuation};
 use crate::color::{Rgba, pack, unpack};
 use crate::fvf::Fvf;
 use crate::state::DeviceState;
 use crate::states::{MaterialColorSource, RenderState};
 
-/// D3DCAPS9.MaxActiveLights: lights that light a vertex at once (SPEC 8.2).
-pub const MAX_ACTIVE_LIGHTS: usize = 8;
+/// The most D3DCAPS9.MaxActiveLights a device can report: lights that light a vertex at once
+/// (SPEC 8.2). Native NVIDIA and AMD drivers report 10 under hardware vertex processing (DXVK
+/// PR 3648's caps dumps); the reference profile reports 8.
+pub const MAX_ACTIVE_LIGHTS: usize = 10;
 
 /// D3DMATERIAL9: the colours a lit vertex reflects (SPEC 8.5). A new device's material is all
 /// zero (`Material::default()`).
@@ -212,14 +215,36 @@ pub struct LightSlot {
 }
 
 /// The lights of a device by index (any u32, as D3D9 allows). A new device has none, so none
-/// is enabled (SPEC 8.2).
-#[derive(Clone, Debug, Default, PartialEq)]
+/// is enabled (SPEC 8.2). Besides each light's enable state it keeps the slots of `light_order =
+/// enable_order`: the index that holds each of the device's MaxActiveLights slots.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Lights {
     slots: BTreeMap<u32, LightSlot>,
+    /// SPEC 8.2, `enable_order`: the light in each slot, the first `capacity` of them used.
+    order: [Option<u32>; MAX_ACTIVE_LIGHTS],
+    capacity: usize,
+}
+
+impl Default for Lights {
+    /// No light, [`MAX_ACTIVE_LIGHTS`] slots.
+    fn default() -> Self {
+        Lights::new(MAX_ACTIVE_LIGHTS as u32)
+    }
 }
 
 impl Lights {
-    /// SetLight(index, light) of a light [`Light::validate`] accepted; keeps its enable state.
+    /// No light, on a device whose MaxActiveLights is `max_active` (the slots of
+    /// `enable_order`; at most [`MAX_ACTIVE_LIGHTS`]).
+    pub fn new(max_active: u32) -> Lights {
+        Lights {
+            slots: BTreeMap::new(),
+            order: [None; MAX_ACTIVE_LIGHTS],
+            capacity: (max_active as usize).min(MAX_ACTIVE_LIGHTS),
+        }
+    }
+
+    /// SetLight(index, light) of a light [`Light::validate`] accepted; keeps its enable state
+    /// and its slot.
     pub fn set(&mut self, index: u32, light: Light) {
         self.slots
             .entry(index)
@@ -230,7 +255,8 @@ impl Lights {
             });
     }
 
-    /// LightEnable(index, enable): an index never set gets [`Light::DEFAULT`].
+    /// LightEnable(index, enable): an index never set gets [`Light::DEFAULT`]. SPEC 8.2: an
+    /// enable of a light without a slot takes the first free one, if any; a disable frees it.
     pub fn enable(&mut self, index: u32, enable: bool) {
         self.slots
             .entry(index)
@@ -239,6 +265,17 @@ impl Lights {
                 enabled: false,
             })
             .enabled = enable;
+        let used = &mut self.order[..self.capacity];
+        let held = used.iter().position(|&s| s == Some(index));
+        match (enable, held) {
+            (true, None) => {
+                if let Some(free) = used.iter_mut().find(|s| s.is_none()) {
+                    *free = Some(index);
+                }
+            }
+            (false, Some(slot)) => used[slot] = None,
+            _ => {}
+        }
     }
 
     /// GetLight / GetLightEnable: the slot at `index`, if SetLight or LightEnable made one.
@@ -256,13 +293,31 @@ impl Lights {
         self.slots.values().filter(|s| s.enabled).count()
     }
 
-    /// SPEC 8.2: the lights that light vertices: the enabled ones with the lowest indices, at
-    /// most `max_active` (the caps' MaxActiveLights) and at most [`MAX_ACTIVE_LIGHTS`].
-    pub fn active(&self, max_active: u32) -> impl Iterator<Item = (u32, &Light)> {
-        self.slots
-            .iter()
-            .filter(|(_, s)| s.enabled)
-            .map(|(&i, s)| (i, &s.light))
+    /// SPEC 8.2: the lights that light vertices, at most `max_active` (the caps'
+    /// MaxActiveLights) and at most [`MAX_ACTIVE_LIGHTS`]: under `lowest_indices` the enabled
+    /// ones with the lowest indices, in index order; under `enable_order` those holding a slot,
+    /// in slot order.
+    pub fn active(
+        &self,
+        max_active: u32,
+        order: LightOrder,
+    ) -> impl Iterator<Item = (u32, &Light)> + '_ {
+        let lowest = (order == LightOrder::LowestIndices).then(|| {
+            self.slots
+                .iter()
+                .filter(|(_, s)| s.enabled)
+                .map(|(&i, s)| (i, &s.light))
+        });
+        let slotted = (order == LightOrder::EnableOrder).then(|| {
+            self.order
+                .iter()
+                .flatten()
+                .map(|&i| (i, &self.slots[&i].light))
+        });
+        lowest
+            .into_iter()
+            .flatten()
+            .chain(slotted.into_iter().flatten())
             .take(MAX_ACTIVE_LIGHTS.min(max_active as usize))
     }
 }
@@ -336,10 +391,15 @@ pub fn normalize3(v: [f32; 3]) -> [f32; 3] {
     }
 }
 
-/// SPEC 8.4: attenuation `1 / (att0 + att1 * d + att2 * d^2)`, at most FLT_MAX.
+/// SPEC 8.4: attenuation `1 / (att0 + att1 * d + att2 * d^2)`. Where it overflows (all three
+/// attenuations 0) it is FLT_MAX under `zero_attenuation = flt_max`, infinite under `infinite`.
 #[inline]
-pub fn attenuation(att: [f32; 3], d: f32, d2: f32) -> f32 {
-    (1.0 / (att[0] + att[1] * d + att[2] * d2)).min(f32::MAX)
+pub fn attenuation(att: [f32; 3], d: f32, d2: f32, rule: ZeroAttenuation) -> f32 {
+    let a = 1.0 / (att[0] + att[1] * d + att[2] * d2);
+    match rule {
+        ZeroAttenuation::FltMax => a.min(f32::MAX),
+        ZeroAttenuation::Infinite => a,
+    }
 }
 
 /// SPEC 8.4: the spotlight factor for `rho`, the cosine between the light's direction and the
@@ -379,6 +439,11 @@ pub struct LightSetup {
     pub material: Material,
     /// Sources of the diffuse, ambient, specular and emissive material colours.
     pub sources: [ColorSource; 4],
+    /// The vertices have a NORMAL: without one a vertex gets no diffuse or specular term
+    /// (SPEC 8.4).
+    pub has_normal: bool,
+    /// The `zero_attenuation` behaviour (SPEC 8.4).
+    pub zero_attenuation: ZeroAttenuation,
 }
 
 impl LightSetup {
@@ -408,10 +473,10 @@ impl LightSetup {
         }; MAX_ACTIVE_LIGHTS];
         let mut count = 0;
         let view = &state.view;
-        for (_, l) in state
-            .lights
-            .active(state.caps.effective().max_active_lights)
-        {
+        for (_, l) in state.lights.active(
+            state.caps.effective().max_active_lights,
+            state.behaviours.light_order(),
+        ) {
             let p = view.transform([l.position[0], l.position[1], l.position[2], 1.0]);
             let d = view.transform([l.direction[0], l.direction[1], l.direction[2], 0.0]);
             lights[count] = EyeLight {
@@ -446,6 +511,8 @@ impl LightSetup {
                 source(RenderState::SPECULARMATERIALSOURCE),
                 source(RenderState::EMISSIVEMATERIALSOURCE),
             ],
+            has_normal: fvf.0 & Fvf::NORMAL.0 != 0,
+            zero_attenuation: state.behaviours.zero_attenuation(),
         })
     }
 
@@ -497,7 +564,7 @@ impl LightSetup {
                         continue;
                     }
                     let to_light = normalize3(d);
-                    let mut atten = attenuation(l.attenuation, dist, d2);
+                    let mut atten = attenuation(l.attenuation, dist, d2, self.zero_attenuation);
                     if l.light_type == LightType::Spot {
                         let rho = -dot3(to_light, l.direction);
                         atten *= spot_factor(rho, l.cos_half_theta, l.cos_half_phi, l.falloff);
@@ -507,6 +574,11 @@ impl LightSetup {
             };
             for (a, la) in amb.iter_mut().zip(l.ambient) {
                 *a += la * atten;
+            }
+            // Without NORMAL the terms below add nothing under a finite attenuation (n is 0);
+            // under an infinite one, Wine's lighting skips them, so does SPEC 8.4.
+            if !self.has_normal {
+                continue;
             }
             let n_dot_l = dot3(n, to_light);
             let diffuseness = n_dot_l.clamp(0.0, 1.0) * atten;
@@ -754,17 +826,26 @@ mod tests {
     #[test]
     fn spec_8_2_defaults_and_active_lights() {
         let mut lights = Lights::default();
-        assert_eq!(lights.active(8).count(), 0);
+        assert_eq!(lights.active(8, LightOrder::LowestIndices).count(), 0);
         lights.enable(7, true);
         assert_eq!(lights.get(7).unwrap().light, Light::DEFAULT);
         for i in (0..20).rev() {
             lights.enable(i * 3, true);
         }
-        let active: Vec<u32> = lights.active(8).map(|(i, _)| i).collect();
+        let active: Vec<u32> = lights
+            .active(8, LightOrder::LowestIndices)
+            .map(|(i, _)| i)
+            .collect();
         assert_eq!(active, [0, 3, 6, 7, 9, 12, 15, 18]);
-        let active: Vec<u32> = lights.active(3).map(|(i, _)| i).collect();
+        let active: Vec<u32> = lights
+            .active(3, LightOrder::LowestIndices)
+            .map(|(i, _)| i)
+            .collect();
         assert_eq!(active, [0, 3, 6], "the caps' MaxActiveLights");
-        assert_eq!(lights.active(64).count(), MAX_ACTIVE_LIGHTS);
+        assert_eq!(
+            lights.active(64, LightOrder::LowestIndices).count(),
+            MAX_ACTIVE_LIGHTS
+        );
         let spot = Light {
             light_type: LightType::Spot,
             range: 5.0,
@@ -956,8 +1037,187 @@ mod tests {
             ((0.7f32 - 0.5) / (0.9 - 0.5)).powf(2.0)
         );
         assert_eq!(spot_factor(0.7, t, p, 0.0), 1.0);
-        assert_eq!(attenuation([1.0, 2.0, 3.0], 2.0, 4.0), 1.0 / 17.0);
-        assert_eq!(attenuation([0.0; 3], 2.0, 4.0), f32::MAX);
+        for rule in ZeroAttenuation::ALL {
+            assert_eq!(attenuation([1.0, 2.0, 3.0], 2.0, 4.0, *rule), 1.0 / 17.0);
+        }
+        assert_eq!(
+            attenuation([0.0; 3], 2.0, 4.0, ZeroAttenuation::FltMax),
+            f32::MAX
+        );
+        assert_eq!(
+            attenuation([0.0; 3], 2.0, 4.0, ZeroAttenuation::Infinite),
+            f32::INFINITY
+        );
+        // 1 / 1e-39 overflows as well.
+        assert_eq!(
+            attenuation([1e-39, 0.0, 0.0], 2.0, 4.0, ZeroAttenuation::Infinite),
+            f32::INFINITY
+        );
+        assert_eq!(
+            attenuation([0.0, 1.0, 0.0], 0.0, 0.0, ZeroAttenuation::FltMax),
+            f32::MAX,
+            "a vertex at the light with only a linear attenuation"
+        );
+    }
+
+    fn indices(lights: &Lights, max_active: u32, order: LightOrder) -> Vec<u32> {
+        lights.active(max_active, order).map(|(i, _)| i).collect()
+    }
+
+    /// SPEC 8.2, `light_order`: nine lights on a device of eight, enabled from the highest
+    /// index down; then a disable frees a slot the overflowing light does not take.
+    #[test]
+    fn spec_8_2_light_order_picks_the_lowest_indices_or_the_first_enabled() {
+        let mut lights = Lights::new(8);
+        for i in (0..9).rev() {
+            lights.enable(i, true);
+        }
+        assert_eq!(
+            indices(&lights, 8, LightOrder::LowestIndices),
+            [0, 1, 2, 3, 4, 5, 6, 7]
+        );
+        assert_eq!(
+            indices(&lights, 8, LightOrder::EnableOrder),
+            [8, 7, 6, 5, 4, 3, 2, 1],
+            "slot order; light 0 found no slot"
+        );
+        assert!(lights.get(0).unwrap().enabled, "GetLightEnable is TRUE");
+        lights.enable(5, false);
+        assert_eq!(
+            indices(&lights, 8, LightOrder::EnableOrder),
+            [8, 7, 6, 4, 3, 2, 1],
+            "light 0 does not take the freed slot"
+        );
+        assert_eq!(
+            indices(&lights, 8, LightOrder::LowestIndices),
+            [0, 1, 2, 3, 4, 6, 7, 8]
+        );
+        lights.enable(0, true);
+        assert_eq!(
+            indices(&lights, 8, LightOrder::EnableOrder),
+            [8, 7, 6, 0, 4, 3, 2, 1],
+            "enabled again while a slot is free, it takes the first free one"
+        );
+        // Enabling a light that holds a slot, SetLight on it, and a disable of a light without
+        // a slot change no slot.
+        lights.enable(7, true);
+        lights.set(7, Light::zeroed(LightType::Point));
+        lights.enable(5, false);
+        assert_eq!(
+            indices(&lights, 8, LightOrder::EnableOrder),
+            [8, 7, 6, 0, 4, 3, 2, 1]
+        );
+        assert_eq!(
+            lights.get(7).unwrap().light,
+            Light::zeroed(LightType::Point)
+        );
+        // The caps' MaxActiveLights bounds both; a device of ten has ten slots.
+        assert_eq!(indices(&lights, 3, LightOrder::EnableOrder), [8, 7, 6]);
+        let mut ten = Lights::new(10);
+        for i in (0..11).rev() {
+            ten.enable(i, true);
+        }
+        assert_eq!(
+            indices(&ten, 10, LightOrder::EnableOrder),
+            [10, 9, 8, 7, 6, 5, 4, 3, 2, 1]
+        );
+        assert_eq!(
+            indices(&ten, 10, LightOrder::LowestIndices),
+            [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]
+        );
+        assert_eq!(
+            Lights::new(64),
+            Lights::default(),
+            "at most MAX_ACTIVE_LIGHTS slots"
+        );
+    }
+
+    /// SPEC 8.2: a device's lights have the slots of its MaxActiveLights, and a draw lights with
+    /// the lights its `light_order` picks.
+    #[test]
+    fn spec_8_2_a_draw_lights_with_the_lights_its_light_order_picks() {
+        let mut state = DeviceState::new(Api::D3d9, Caps::reference(), 64, 64);
+        for i in (0..9).rev() {
+            let light = Light {
+                diffuse: [i as f32, 0.0, 0.0, 0.0],
+                ..Light::DEFAULT
+            };
+            state.lights.set(i, light);
+            state.lights.enable(i, true);
+        }
+        let reds = |state: &DeviceState| {
+            let s = LightSetup::new(state, XYZ_NORMAL).unwrap();
+            s.active_lights()
+                .iter()
+                .map(|l| l.diffuse[0])
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(reds(&state), [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        state.behaviours.set("light_order", "enable_order").unwrap();
+        assert_eq!(reds(&state), [8.0, 7.0, 6.0, 5.0, 4.0, 3.0, 2.0, 1.0]);
+    }
+
+    /// SPEC 8.4, `zero_attenuation`: a point light with all attenuations 0 in front of a
+    /// white material: FLT_MAX saturates the lit channels (white); infinity makes the channels
+    /// whose light colour is 0 NaN, written as 0, and a NaN ambient sum poisons every channel
+    /// (black).
+    #[test]
+    fn spec_8_4_zero_attenuation_flt_max_or_infinite() {
+        let mut lights = Lights::default();
+        lights.set(
+            0,
+            Light {
+                light_type: LightType::Point,
+                diffuse: [1.0, 1.0, 0.0, 1.0],
+                position: [0.0, 0.0, 0.0],
+                range: 10.0,
+                ..Light::zeroed(LightType::Point)
+            },
+        );
+        lights.enable(0, true);
+        let material = Material {
+            diffuse: [1.0; 4],
+            ..Material::default()
+        };
+        let lit = |rule: &str, fvf: Fvf, material: Material, normal: [f32; 3]| {
+            let mut s = setup(&[], material, &lights, Mat4::IDENTITY, fvf).unwrap();
+            s.zero_attenuation = match rule {
+                "flt_max" => ZeroAttenuation::FltMax,
+                _ => ZeroAttenuation::Infinite,
+            };
+            s.light([0.0, 0.0, 1.0], normal, 0, 0).0
+        };
+        let towards = [0.0, 0.0, -1.0];
+        // The ambient material colour is 0: the light's ambient 0 times FLT_MAX adds nothing.
+        assert_eq!(lit("flt_max", XYZ_NORMAL, material, towards), 0xFFFF_FF00);
+        // Infinite: ambient 0 * inf = NaN in every channel, then 0 * NaN stays NaN: black.
+        assert_eq!(lit("infinite", XYZ_NORMAL, material, towards), 0xFF00_0000);
+        // Without NORMAL: no diffuse term, the ambient NaN still makes it black.
+        assert_eq!(lit("infinite", Fvf::XYZ, material, [0.0; 3]), 0xFF00_0000);
+        assert_eq!(lit("flt_max", Fvf::XYZ, material, [0.0; 3]), 0xFF00_0000);
+        // A light with an ambient colour: only its 0 channel (blue) is NaN; red and green
+        // saturate; a normal facing away makes the diffuse term 0 * inf = NaN as well.
+        let mut lights2 = lights.clone();
+        let l = lights2.get(0).unwrap().light;
+        lights2.set(
+            0,
+            Light {
+                ambient: [1.0, 1.0, 0.0, 0.0],
+                ..l
+            },
+        );
+        let lit2 = |rule: ZeroAttenuation, normal: [f32; 3]| {
+            let mut s = setup(&[], material, &lights2, Mat4::IDENTITY, XYZ_NORMAL).unwrap();
+            s.zero_attenuation = rule;
+            s.material.ambient = [1.0; 4];
+            s.light([0.0, 0.0, 1.0], normal, 0, 0).0
+        };
+        assert_eq!(lit2(ZeroAttenuation::Infinite, towards), 0xFFFF_FF00);
+        assert_eq!(
+            lit2(ZeroAttenuation::Infinite, [0.0, 0.0, 1.0]),
+            0xFF00_0000
+        );
+        assert_eq!(lit2(ZeroAttenuation::FltMax, [0.0, 0.0, 1.0]), 0xFFFF_FF00);
     }
 
     #[test]

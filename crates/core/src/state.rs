@@ -133,7 +133,7 @@ impl DeviceState {
             viewport: Viewport::full(width, height),
             clip_planes: [[0.0; 4]; MAX_CLIP_PLANES],
             material: Material::default(),
-            lights: Lights::default(),
+            lights: Lights::new(caps.effective().max_active_lights),
         }
     }
 

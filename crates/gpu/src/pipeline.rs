@@ -14,6 +14,7 @@
 //!   mapped to wgpu state here and nowhere else.
 
 use pointillist_core::DrawSetup;
+use pointillist_core::behaviour::ZeroAttenuation;
 use pointillist_core::fog::FogSource;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::light::{ColorSource, LightSetup};
@@ -180,6 +181,8 @@ pub(crate) struct LightKey {
     pub specular: bool,
     /// Sources of the diffuse, ambient, specular and emissive material colours (SPEC 8.5).
     pub sources: [ColorSource; 4],
+    /// An overflowing attenuation is infinite, not FLT_MAX (core `ZeroAttenuation`, SPEC 8.4).
+    pub infinite_attenuation: bool,
 }
 
 impl LightKey {
@@ -190,6 +193,7 @@ impl LightKey {
             local_viewer: l.local_viewer,
             specular: l.specular,
             sources: l.sources,
+            infinite_attenuation: l.zero_attenuation == ZeroAttenuation::Infinite,
         }
     }
 }

@@ -62,8 +62,9 @@ struct Uniforms {
     power_fog: vec4f,
     // FOGCOLOR as floats (SPEC 9.1).
     fog_color: vec4f,
-    // The active lights in eye space (core EyeLight), LIGHT_COUNT of them.
-    lights: array<Light, 8>,
+    // The active lights in eye space (core EyeLight), LIGHT_COUNT of them; core
+    // MAX_ACTIVE_LIGHTS slots.
+    lights: array<Light, 10>,
 }
 
 // core::light::EyeLight: seven 16-byte slots.
@@ -312,6 +313,16 @@ fn spot_factor(rho: f32, cos_half_theta: f32, cos_half_phi: f32, falloff: f32) -
     return pow((rho - cos_half_phi) / (cos_half_theta - cos_half_phi), falloff);
 }
 
+// core::color::f32_to_unorm8 writes a NaN channel as 0 (an infinite attenuation, SPEC 8.4).
+fn nan_to_zero(c: vec4f) -> vec4f {
+    return vec4f(
+        select(c.x, 0.0, is_nan(c.x)),
+        select(c.y, 0.0, is_nan(c.y)),
+        select(c.z, 0.0, is_nan(c.z)),
+        select(c.w, 0.0, is_nan(c.w)),
+    );
+}
+
 // A material colour from its source (core ColorSource): 0 material, 1 DIFFUSE, 2 SPECULAR.
 fn material_color(source: u32, material: vec4f, diffuse: u32, specular: u32) -> vec4f {
     if source == 1u {
@@ -346,14 +357,22 @@ fn light_vertex(eye: vec3f, normal: vec3f, diffuse: u32, specular: u32) -> vec2u
                 continue;
             }
             to_light = normalize3(d);
+            // core::light::attenuation: FLT_MAX or infinite where it overflows (zero_attenuation).
             let a = l.attenuation;
-            atten = min(1.0 / (a.x + a.y * dist + a.z * d2), F32_MAX);
+            atten = 1.0 / (a.x + a.y * dist + a.z * d2);
+            if !INFINITE_ATTENUATION {
+                atten = min(atten, F32_MAX);
+            }
             if kind == 2u {
                 let rho = -dot3(to_light, l.direction.xyz);
                 atten *= spot_factor(rho, l.cone.x, l.cone.y, l.direction.w);
             }
         }
         amb += l.ambient.xyz * atten;
+        // SPEC 8.4: no diffuse or specular term without NORMAL.
+        if !HAS_NORMAL {
+            continue;
+        }
         let n_dot_l = dot3(n, to_light);
         let diffuseness = clamp(n_dot_l, 0.0, 1.0) * atten;
         diff += l.diffuse.xyz * diffuseness;
@@ -372,7 +391,7 @@ fn light_vertex(eye: vec3f, normal: vec3f, diffuse: u32, specular: u32) -> vec2u
     let ce = material_color(SOURCE_EMISSIVE, U.material[3], diffuse, specular);
     let g = U.global_ambient.xyz;
     let lit = vec4f(ca.xyz * (g + amb) + cd.xyz * diff + ce.xyz, cd.w);
-    return vec2u(pack_color(quantize(lit)), pack_color(quantize(cs * spec)));
+    return vec2u(pack_color(quantize(nan_to_zero(lit))), pack_color(quantize(nan_to_zero(cs * spec))));
 }
 
 // ---- fog (core::fog, SPEC 9) ----

@@ -455,7 +455,7 @@ fn header(key: &PipelineKey, out: &mut String) {
         Some(FogSource::SpecularAlpha { without }) => without.factor(),
         _ => 1.0,
     };
-    let consts: [(&str, &str, String); 44] = [
+    let consts: [(&str, &str, String); 45] = [
         ("INV255", "f32", f32_literal(1.0 / 255.0)),
         // SPEC 5.2: texture coordinates are clamped to this magnitude before scaling.
         ("COORD_LIMIT", "f32", f32_literal(COORD_LIMIT)),
@@ -526,6 +526,12 @@ fn header(key: &PipelineKey, out: &mut String) {
         ("SOURCE_AMBIENT", "u32", source(1)),
         ("SOURCE_SPECULAR", "u32", source(2)),
         ("SOURCE_EMISSIVE", "u32", source(3)),
+        // core ZeroAttenuation (SPEC 8.4): an overflowing attenuation stays infinite.
+        (
+            "INFINITE_ATTENUATION",
+            "bool",
+            lighting.is_some_and(|l| l.infinite_attenuation).to_string(),
+        ),
         // SPEC 9: fog.
         ("FOG_SOURCE", "u32", format!("{fog_source}u")),
         ("FOG_FORMULA", "u32", format!("{}u", fog_formula as u32)),

@@ -14,7 +14,7 @@ ONE = {"minimum_size": "one_pixel"}
 NAMES = (
     "specular_fog, fog_without_specular, minimum_size, fog_start_equals_end, zero_rhw, "
     "point_size_max_default, depth_clip, pretransformed_table_fog, table_fog_depth, "
-    "pretransformed_point_scale, xyzw_input_w"
+    "pretransformed_point_scale, xyzw_input_w, light_order, zero_attenuation"
 )
 
 
@@ -67,8 +67,12 @@ def test_device_takes_the_switches_and_reports_them():
         "zero_rhw": "drawn",
         "point_size_max_default": "sixty_four",
         "depth_clip": "vertex_processing",
+        "pretransformed_table_fog": "projection",
+        "table_fog_depth": "viewport",
         "pretransformed_point_scale": "ignored",
         "xyzw_input_w": "ignored",
+        "light_order": "lowest_indices",
+        "zero_attenuation": "flt_max",
     }
 
 

@@ -177,6 +177,13 @@ fn target_api_and_caps() {
         ok("[caps]\nmax_active_lights = 3\n").caps.max_active_lights,
         3
     );
+    assert_eq!(
+        ok("[caps]\nmax_active_lights = 10\n")
+            .caps
+            .max_active_lights,
+        10,
+        "native NVIDIA and AMD drivers report 10"
+    );
 }
 
 #[test]
@@ -777,8 +784,8 @@ fn error_format_syntax_and_structure() {
         "tests/data/test.toml:6:9: transform.world: expected 4 rows of 4 numbers, found 1 row"
     );
     assert_eq!(
-        err("[caps]\nmax_active_lights = 9\n"),
-        "tests/data/test.toml:6:21: caps.max_active_lights: 9 is outside 0..=8"
+        err("[caps]\nmax_active_lights = 11\n"),
+        "tests/data/test.toml:6:21: caps.max_active_lights: 11 is outside 0..=10"
     );
     assert_eq!(
         err("[caps]\nprofile = \"voodoo\"\n"),

@@ -95,10 +95,12 @@ pub const PROFILES: [BehaviourProfile; 5] = [
             ("table_fog_depth", "clip_z"),
             ("pretransformed_point_scale", "screen_position"),
             ("xyzw_input_w", "used"),
+            ("light_order", "enable_order"),
+            ("zero_attenuation", "infinite"),
         ],
         sources: &[
             "pointillist conform against Wine 8 (crates/conformance/expect/wine.toml, docs/CONFORMANCE.md): the behaviours its cases show",
-            "Wine dlls/wined3d: glsl_shader.c (the unclamped specular sum fogged), stateblock.c init_default_render_states (POINTSIZE_MAX)",
+            "Wine dlls/wined3d: glsl_shader.c (the unclamped specular sum fogged, 1 / 0 attenuation unclamped), stateblock.c init_default_render_states (POINTSIZE_MAX) and wined3d_light_state_enable_light (light slots in enable order)",
         ],
     },
     BehaviourProfile {
@@ -115,11 +117,13 @@ pub const PROFILES: [BehaviourProfile; 5] = [
             ("table_fog_depth", "viewport"),
             ("pretransformed_point_scale", "screen_position"),
             ("xyzw_input_w", "used"),
+            ("light_order", "enable_order"),
+            ("zero_attenuation", "flt_max"),
         ],
         sources: &[
             "src/d3d9/d3d9_fixed_function.cpp: compilePS (the unclamped specular sum fogged), DoFixedFunctionFog (factor 1 without COLOR1; gl_FragCoord.z), GetPointSizeInfoVS (no minimum of 1)",
             "src/d3d9/d3d9_fixed_function.cpp: GetPointSizeInfoVS (pre-transformed points scaled by their screen position), compileVS (the XYZW position as given)",
-            "src/d3d9/d3d9_device.cpp: UpdatePushConstant<FogScale> (an infinite scale at FOGSTART == FOGEND: a step), ResetState (POINTSIZE_MAX = the largest size), setDepthClip(true); d3d9_fixed_function.cpp: RHW 0 as 1",
+            "src/d3d9/d3d9_device.cpp: UpdatePushConstant<FogScale> (an infinite scale at FOGSTART == FOGEND: a step), ResetState (POINTSIZE_MAX = the largest size), setDepthClip(true), LightEnable (eight slots in enable order); d3d9_fixed_function.cpp: RHW 0 as 1, min(1 / attenuation, FLT_MAX)",
         ],
     },
 ];

@@ -717,12 +717,48 @@ mod tests {
             ..Viewport::full(32, 32)
         })
         .unwrap();
+        for i in 0..9 {
+            d.light_enable(i, true);
+        }
         d.reset_state();
         let fresh = device(64, 32).unwrap();
+        assert_eq!(
+            d.state().lights,
+            fresh.state().lights,
+            "no light, no slot taken"
+        );
         assert_eq!(d.state().render_states, fresh.state().render_states);
         assert_eq!(d.state().view, fresh.state().view);
         assert_eq!(d.state().viewport, fresh.state().viewport);
         assert_eq!(d.state().caps, fresh.state().caps);
+    }
+
+    /// SPEC 8.2: a device's `enable_order` slots are its MaxActiveLights (3 here): the fourth
+    /// enable finds none.
+    #[test]
+    fn light_slots_follow_the_devices_max_active_lights() {
+        use crate::behaviour::LightOrder;
+        let desc = DeviceDesc {
+            caps: Caps {
+                max_active_lights: 3,
+                ..Caps::reference()
+            },
+            ..DeviceDesc::new(8, 8)
+        };
+        let mut d = Device::new(Counting::default(), desc).unwrap();
+        for i in [5, 4, 3, 2] {
+            d.light_enable(i, true);
+        }
+        d.light_enable(4, false);
+        let picked = |d: &Device<Counting>, order| {
+            d.state()
+                .lights
+                .active(3, order)
+                .map(|(i, _)| i)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(picked(&d, LightOrder::EnableOrder), [5, 3]);
+        assert_eq!(picked(&d, LightOrder::LowestIndices), [2, 3, 5]);
     }
 
     /// SPEC 2.6: POINTSIZE_MAX starts at the default of the device's `point_size_max_default`
