@@ -19,10 +19,13 @@ pub struct Classification {
     /// The switches whose options draw this case differently, each with the option whose image
     /// the device drew (when exactly one did).
     pub shown: BTreeMap<&'static str, &'static str>,
-    /// For a case that differs under its own behaviours: the switch and option under which it
-    /// matches, if one does.
-    pub matching: Option<(&'static str, &'static str)>,
+    /// For a case that differs under its own behaviours: the switches and options under which
+    /// it matches (one switch, or two together where no single one does); empty when none do.
+    pub matching: Vec<(&'static str, &'static str)>,
 }
+
+/// The most renders a differing case may spend on pairs of switches.
+const MAX_PAIR_RENDERS: usize = 24;
 
 /// A case's two images and how they compared.
 #[derive(Clone, Copy)]
@@ -42,7 +45,10 @@ pub struct Compared<'a> {
 /// is called for the switches in `read` (those the case's draws depend on), one switch changed
 /// at a time. Where several options draw the device's image, the one `prefer` names (the
 /// expectations' `[behaviour]`) is taken, else the default, else none; a matching case shows
-/// its own option, or the preferred one where that draws the case alike.
+/// its own option, or the preferred one where that draws the case alike. A case that differs
+/// under every single option is rendered under two switches changed together (pairs of the
+/// switches in `read`, the preferred options first, at most [`MAX_PAIR_RENDERS`] renders): a
+/// pair whose image matches the device's is what the device does.
 pub fn classify(
     base: Behaviours,
     read: BehaviourSet,
@@ -57,6 +63,8 @@ pub fn classify(
         matched,
     } = images;
     let mut out = Classification::default();
+    // True once an option of one switch draws the device's image, decided or not.
+    let mut single = false;
     for def in BEHAVIOURS.iter().filter(|d| read.contains(d.name)) {
         let current = base.get(def.name).expect("every switch has an option");
         let mut matching: Vec<&'static str> = Vec::new();
@@ -78,6 +86,7 @@ pub fn classify(
         if !decides {
             continue;
         }
+        single |= !matching.is_empty();
         // Several options drawing the device's image alike: the one the expectations name, else
         // the default (the option with the strongest evidence), else undecided.
         let preferred = prefer.get(def.name).map(String::as_str);
@@ -97,12 +106,75 @@ pub fn classify(
             }
             (false, Some(option)) => {
                 out.shown.insert(def.name, option);
-                out.matching.get_or_insert((def.name, option));
+                if out.matching.is_empty() {
+                    out.matching.push((def.name, option));
+                }
             }
             _ => {}
         }
     }
+    if !matched && !single {
+        if let Some(pair) = matching_pair(base, read, prefer, images, &mut render) {
+            for &(name, option) in &pair {
+                out.shown.insert(name, option);
+            }
+            out.matching = pair.to_vec();
+        }
+    }
     out
+}
+
+/// Two switches of `read` changed together under which the device's image matches: the pairs
+/// of options that `prefer` names are tried first, then the others, at most
+/// [`MAX_PAIR_RENDERS`] renders in all.
+fn matching_pair(
+    base: Behaviours,
+    read: BehaviourSet,
+    prefer: &BTreeMap<String, String>,
+    images: Compared<'_>,
+    render: &mut impl FnMut(Behaviours) -> Result<Image, String>,
+) -> Option<[(&'static str, &'static str); 2]> {
+    let switches: Vec<_> = BEHAVIOURS
+        .iter()
+        .filter(|d| read.contains(d.name))
+        .collect();
+    let others = |d: &'static pointillist_core::behaviour::BehaviourDef| {
+        let current = base.get(d.name).expect("every switch has an option");
+        let preferred = prefer.get(d.name).map(String::as_str);
+        let mut options: Vec<&'static str> = d.option_names().filter(|o| *o != current).collect();
+        options.sort_by_key(|o| Some(*o) != preferred);
+        options
+    };
+    let mut candidates = Vec::new();
+    for (i, a) in switches.iter().enumerate() {
+        for b in &switches[i + 1..] {
+            for oa in others(a) {
+                for ob in others(b) {
+                    let preferred = |d: &pointillist_core::behaviour::BehaviourDef, o| {
+                        prefer.get(d.name).map(String::as_str) == Some(o)
+                    };
+                    let rank = usize::from(!preferred(a, oa)) + usize::from(!preferred(b, ob));
+                    candidates.push((rank, [(a.name, oa), (b.name, ob)]));
+                }
+            }
+        }
+    }
+    candidates.sort_by_key(|c| c.0);
+    for (_, pair) in candidates.into_iter().take(MAX_PAIR_RENDERS) {
+        let mut alt = base;
+        for (name, option) in pair {
+            alt.set(name, option).expect("an option of the switch");
+        }
+        let Ok(image) = render(alt) else { continue };
+        if image.rgba != images.ours.rgba
+            && compare(&image, images.theirs, images.tolerance)
+                .first
+                .is_none()
+        {
+            return Some(pair);
+        }
+    }
+    None
 }
 
 /// The option each switch's deciding cases showed: `None` when no case decided it or they
@@ -193,7 +265,7 @@ mod tests {
                 render(b)
             },
         );
-        assert_eq!(c.matching, Some(("specular_fog", "clamped")));
+        assert_eq!(c.matching, [("specular_fog", "clamped")]);
         assert_eq!(tried.len(), 1, "one other option of the one switch read");
     }
 
@@ -212,7 +284,7 @@ mod tests {
             },
             render,
         );
-        assert_eq!(c.matching, Some(("specular_fog", "clamped")));
+        assert_eq!(c.matching, [("specular_fog", "clamped")]);
         assert_eq!(
             c.shown.into_iter().collect::<Vec<_>>(),
             [("specular_fog", "clamped")]
@@ -234,7 +306,7 @@ mod tests {
             },
             render,
         );
-        assert_eq!(c.matching, None);
+        assert!(c.matching.is_empty());
         assert_eq!(
             c.shown.into_iter().collect::<Vec<_>>(),
             [("specular_fog", "unclamped")]
@@ -267,7 +339,7 @@ mod tests {
         );
         assert_eq!(
             c.matching,
-            Some(("fog_start_equals_end", "vertex_fogged_table_step"))
+            [("fog_start_equals_end", "vertex_fogged_table_step")]
         );
         // Two non-default options alike: undecided.
         base.set("fog_start_equals_end", "vertex_fogged_table_step")
@@ -290,7 +362,7 @@ mod tests {
             },
             render_two,
         );
-        assert_eq!(c.matching, None);
+        assert!(c.matching.is_empty());
         // The expectations name one of them: that one.
         let prefer = BTreeMap::from([("fog_start_equals_end".to_string(), "step".to_string())]);
         let c = classify(
@@ -305,7 +377,7 @@ mod tests {
             },
             render_two,
         );
-        assert_eq!(c.matching, Some(("fog_start_equals_end", "step")));
+        assert_eq!(c.matching, [("fog_start_equals_end", "step")]);
     }
 
     #[test]
@@ -349,5 +421,71 @@ mod tests {
         assert_eq!(p["minimum_size"], None, "the cases disagree");
         assert_eq!(p["fog_without_specular"], None, "no case decided it");
         assert_eq!(p.len(), BEHAVIOURS.len());
+    }
+
+    /// A case that two switches draw only together (`golden.scaling` on Wine: a scaled
+    /// pre-transformed point bounded by another POINTSIZE_MAX default) matches under the pair;
+    /// the expectations' options are tried first.
+    #[test]
+    fn a_case_matching_under_two_switches_together_names_both() {
+        let pair_render = |b: Behaviours| {
+            let fog = b.get("specular_fog") == Some("clamped");
+            let size = b.get("minimum_size") == Some("one_pixel");
+            Ok(image(match (fog, size) {
+                (true, true) => 30,
+                (true, false) => 20,
+                _ => 10,
+            }))
+        };
+        let mut read = BehaviourSet::default();
+        read.insert("specular_fog");
+        read.insert("minimum_size");
+        read.insert("zero_rhw");
+        let prefer = BTreeMap::from([
+            ("minimum_size".to_string(), "one_pixel".to_string()),
+            ("specular_fog".to_string(), "clamped".to_string()),
+        ]);
+        let mut renders = 0;
+        let c = classify(
+            Behaviours::default(),
+            read,
+            &prefer,
+            Compared {
+                ours: &image(10),
+                theirs: &image(30),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
+            |b| {
+                renders += 1;
+                pair_render(b)
+            },
+        );
+        assert_eq!(
+            c.matching,
+            [("specular_fog", "clamped"), ("minimum_size", "one_pixel")]
+        );
+        assert_eq!(c.shown.get("minimum_size"), Some(&"one_pixel"));
+        // Three single renders, then the preferred pair first.
+        assert_eq!(renders, 4);
+        // No pair draws 40: a departure, after at most the pair budget.
+        let mut renders = 0;
+        let c = classify(
+            Behaviours::default(),
+            read,
+            &prefer,
+            Compared {
+                ours: &image(10),
+                theirs: &image(40),
+                tolerance: Tolerance::Exact,
+                matched: false,
+            },
+            |b| {
+                renders += 1;
+                pair_render(b)
+            },
+        );
+        assert!(c.matching.is_empty());
+        assert!(renders <= 3 + MAX_PAIR_RENDERS);
     }
 }

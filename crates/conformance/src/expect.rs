@@ -119,30 +119,36 @@ impl Expectations {
     }
 
     /// Whether `case` ending with `status` (and `pixels` pixels differing; for
-    /// [`Status::Option`], matching under the switch and option `matching`) is as expected;
+    /// [`Status::Option`], matching under the switches and options `matching`) is as expected;
     /// `Err` says what is unexpected.
     pub fn check(
         &self,
         case: &str,
         status: Status,
         pixels: u64,
-        matching: Option<(&str, &str)>,
+        matching: &[(&str, &str)],
     ) -> Result<(), String> {
         match (self.get(case), status) {
             (None, Status::Match) => Ok(()),
             (None, Status::Option) => {
-                let (name, option) = matching.unwrap_or_default();
-                match self.behaviours.get(name) {
-                    Some(o) if o == option => Ok(()),
-                    Some(o) => Err(format!(
-                        "unexpected: matches with {name} = \"{option}\", the expectations' \
-                         [behaviour] say \"{o}\""
-                    )),
-                    None => Err(format!(
-                        "unexpected: matches with {name} = \"{option}\", which the expectations' \
-                         [behaviour] do not name"
-                    )),
+                for &(name, option) in matching {
+                    match self.behaviours.get(name) {
+                        Some(o) if o == option => {}
+                        Some(o) => {
+                            return Err(format!(
+                                "unexpected: matches with {name} = \"{option}\", the \
+                                 expectations' [behaviour] say \"{o}\""
+                            ));
+                        }
+                        None => {
+                            return Err(format!(
+                                "unexpected: matches with {name} = \"{option}\", which the \
+                                 expectations' [behaviour] do not name"
+                            ));
+                        }
+                    }
                 }
+                Ok(())
             }
             (None, s) => Err(format!("unexpected: {s} (expected to match)")),
             (Some(e), s) if s != e.status => Err(format!(
@@ -184,40 +190,40 @@ implementation = "y"
     fn listed_cases_must_end_as_listed_and_others_must_match() {
         let e = Expectations::parse(FILE, Path::new("wine.toml")).unwrap();
         assert_eq!(e.implementation.as_deref(), Some("Wine 8.0"));
-        assert!(e.check("other", Status::Match, 0, None).is_ok());
-        assert!(e.check("other", Status::Differs, 3, None).is_err());
-        assert!(e.check("sub_pixel", Status::Differs, 4, None).is_ok());
-        let changed = e.check("sub_pixel", Status::Differs, 5, None).unwrap_err();
+        assert!(e.check("other", Status::Match, 0, &[]).is_ok());
+        assert!(e.check("other", Status::Differs, 3, &[]).is_err());
+        assert!(e.check("sub_pixel", Status::Differs, 4, &[]).is_ok());
+        let changed = e.check("sub_pixel", Status::Differs, 5, &[]).unwrap_err();
         assert!(
             changed.contains("5 pixels") && changed.contains("say 4"),
             "{changed}"
         );
-        let fixed = e.check("sub_pixel", Status::Match, 0, None).unwrap_err();
+        let fixed = e.check("sub_pixel", Status::Match, 0, &[]).unwrap_err();
         assert!(fixed.contains("expected to be differs"), "{fixed}");
-        assert!(e.check("lit", Status::Error, 0, None).is_ok());
-        assert!(e.check("lit", Status::Differs, 1, None).is_err());
+        assert!(e.check("lit", Status::Error, 0, &[]).is_ok());
+        assert!(e.check("lit", Status::Differs, 1, &[]).is_err());
     }
 
     #[test]
     fn an_option_case_is_expected_when_the_behaviour_table_names_its_option() {
         let text = format!("{FILE}\n[behaviour]\nspecular_fog = \"clamped\"\n");
         let e = Expectations::parse(&text, Path::new("wine.toml")).unwrap();
-        let clamped = Some(("specular_fog", "clamped"));
+        let clamped = &[("specular_fog", "clamped")];
         assert!(e.check("other", Status::Option, 9, clamped).is_ok());
-        let other = e.check(
-            "other",
-            Status::Option,
-            9,
-            Some(("specular_fog", "unclamped")),
-        );
+        let other = e.check("other", Status::Option, 9, &[("specular_fog", "unclamped")]);
         assert!(other.unwrap_err().contains("say \"clamped\""));
-        let unnamed = e.check(
-            "other",
-            Status::Option,
-            9,
-            Some(("minimum_size", "one_pixel")),
-        );
+        let unnamed = e.check("other", Status::Option, 9, &[("minimum_size", "one_pixel")]);
         assert!(unnamed.unwrap_err().contains("do not name"));
+        // Two switches together: each must be the expectations' option.
+        let pair = [("specular_fog", "clamped"), ("minimum_size", "one_pixel")];
+        assert!(
+            e.check("other", Status::Option, 9, &pair)
+                .unwrap_err()
+                .contains("minimum_size")
+        );
+        let both = format!("{text}minimum_size = \"one_pixel\"\n");
+        let e2 = Expectations::parse(&both, Path::new("wine.toml")).unwrap();
+        assert!(e2.check("other", Status::Option, 9, &pair).is_ok());
         // A listed departure that now matches under an option is a change to look at.
         assert!(e.check("sub_pixel", Status::Option, 4, clamped).is_err());
         let p = Path::new("wine.toml");

@@ -358,7 +358,7 @@ fn judge(
         explanation: None,
         images: None,
         facts: None,
-        matching: None,
+        matching: Vec::new(),
         shown: BTreeMap::new(),
     };
     let tolerance = match &p.tolerance {
@@ -447,11 +447,22 @@ fn judge(
         },
         |b| render(&scene, caps, b),
     );
-    if let Some((name, option)) = found.matching {
+    if !found.matching.is_empty() {
+        let options: Vec<String> = found
+            .matching
+            .iter()
+            .map(|(name, option)| format!("{name} = \"{option}\""))
+            .collect();
         r.status = Status::Option;
         r.message = format!(
-            "matches with the behaviour {name} = \"{option}\", an option of a switch where \
-             devices differ; under the scene's own behaviours {}",
+            "matches with the behaviour {}, {} of switches where devices differ; under the \
+             scene's own behaviours {}",
+            options.join(" and "),
+            if options.len() == 1 {
+                "an option"
+            } else {
+                "options"
+            },
             r.message
         );
     }
@@ -557,7 +568,7 @@ pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
             &expectations.behaviours,
             &inputs,
         );
-        r.verdict = expectations.check(&r.name, r.status, r.pixels_differing, r.matching);
+        r.verdict = expectations.check(&r.name, r.status, r.pixels_differing, &r.matching);
         r.explanation = expectations
             .get(&r.name)
             .map(|e| (e.d3d9.clone(), e.implementation.clone()));

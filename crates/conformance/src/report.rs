@@ -60,8 +60,9 @@ pub struct CaseReport {
     /// Whether the device's image holds the case's own `[[case.expect]]` facts (`None` for a
     /// scene without a `[case]` table or without a device image); `Err` lists what fails.
     pub facts: Option<Result<(), String>>,
-    /// For [`Status::Option`]: the behaviour switch and the option under which the case matches.
-    pub matching: Option<(&'static str, &'static str)>,
+    /// For [`Status::Option`]: the behaviour switches and the options under which the case
+    /// matches.
+    pub matching: Vec<(&'static str, &'static str)>,
     /// The behaviour switches this case decides, with the option the device showed.
     pub shown: BTreeMap<&'static str, &'static str>,
 }
@@ -118,7 +119,7 @@ pub fn json(
             .map(|c| JsonCase {
                 scene: &c.scene,
                 status: c.status,
-                options: c.matching.into_iter().collect(),
+                options: c.matching.iter().copied().collect(),
                 pixels_differing: c.pixels_differing,
                 max_channel_difference: c.max_channel_difference,
                 message: &c.message,
