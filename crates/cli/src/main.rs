@@ -170,7 +170,7 @@ pub struct BehavioursArgs {
     #[arg(long)]
     pub json: bool,
     /// List the behaviour profiles instead: one name for the options a source shows for a
-    /// whole device (`profile = "NAME"` in [behaviour], `--behaviour profile=NAME`).
+    /// whole device (`profile = "NAME"` in `[behaviour]`, `--behaviour profile=NAME`).
     #[arg(long)]
     pub profiles: bool,
 }

@@ -47,7 +47,7 @@ pub struct Compared<'a> {
 /// expectations' `[behaviour]`) is taken, else the default, else none; a matching case shows
 /// its own option, or the preferred one where that draws the case alike. A case that differs
 /// under every single option is rendered under two switches changed together (pairs of the
-/// switches in `read`, the preferred options first, at most [`MAX_PAIR_RENDERS`] renders): a
+/// switches in `read`, the preferred options first, at most 24 renders): a
 /// pair whose image matches the device's is what the device does.
 pub fn classify(
     base: Behaviours,
@@ -113,13 +113,14 @@ pub fn classify(
             _ => {}
         }
     }
-    if !matched && !single {
-        if let Some(pair) = matching_pair(base, read, prefer, images, &mut render) {
-            for &(name, option) in &pair {
-                out.shown.insert(name, option);
-            }
-            out.matching = pair.to_vec();
+    if !matched
+        && !single
+        && let Some(pair) = matching_pair(base, read, prefer, images, &mut render)
+    {
+        for &(name, option) in &pair {
+            out.shown.insert(name, option);
         }
+        out.matching = pair.to_vec();
     }
     out
 }
