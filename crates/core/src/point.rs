@@ -635,15 +635,14 @@ impl PointSetup {
             }
             None => (diffuse, specular),
         };
-        let depth = FogDepth {
-            z,
-            w,
-            clip_z: clip.map_or(z, |c| c[2] / c[3]),
-        };
-        let fog = self
-            .fog
-            .as_ref()
-            .map_or(1.0, |f| f.factor(eye, &depth, vertex_specular));
+        let fog = self.fog.as_ref().map_or(1.0, |f| {
+            let depth = FogDepth {
+                z,
+                w,
+                clip_z: clip.map_or(z, |c| c[2] / c[3]),
+            };
+            f.factor(eye, &depth, vertex_specular)
+        });
         let mut point = ScreenPoint {
             x,
             y,
