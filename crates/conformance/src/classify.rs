@@ -10,7 +10,7 @@ use pointillist_core::Behaviours;
 use pointillist_core::behaviour::{BEHAVIOURS, BehaviourSet};
 use pointillist_core::tolerance::Tolerance;
 
-use crate::compare::compare;
+use crate::compare::{Drawn, compare};
 use crate::runner::Image;
 
 /// What one case tells about the device's behaviours.
@@ -30,8 +30,9 @@ const MAX_PAIR_RENDERS: usize = 24;
 /// A case's two images and how they compared.
 #[derive(Clone, Copy)]
 pub struct Compared<'a> {
-    /// pointillist's image under the scene's behaviours.
-    pub ours: &'a Image,
+    /// pointillist's image under the scene's behaviours (and its nudged images where the
+    /// device's differs, SPEC 7).
+    pub ours: &'a Drawn,
     /// The device's image.
     pub theirs: &'a Image,
     /// The case's tolerance.
@@ -54,7 +55,7 @@ pub fn classify(
     read: BehaviourSet,
     prefer: &BTreeMap<String, String>,
     images: Compared<'_>,
-    mut render: impl FnMut(Behaviours) -> Result<Image, String>,
+    mut render: impl FnMut(Behaviours) -> Result<Drawn, String>,
 ) -> Classification {
     let Compared {
         ours,
@@ -74,7 +75,7 @@ pub fn classify(
             let mut alt = base;
             alt.set(def.name, option).expect("an option of the switch");
             let Ok(image) = render(alt) else { continue };
-            if image.rgba == ours.rgba {
+            if image.image.rgba == ours.image.rgba {
                 alike.push(option); // this option draws the case alike
                 continue;
             }
@@ -133,7 +134,7 @@ fn matching_pair(
     read: BehaviourSet,
     prefer: &BTreeMap<String, String>,
     images: Compared<'_>,
-    render: &mut impl FnMut(Behaviours) -> Result<Image, String>,
+    render: &mut impl FnMut(Behaviours) -> Result<Drawn, String>,
 ) -> Option<[(&'static str, &'static str); 2]> {
     let switches: Vec<_> = BEHAVIOURS
         .iter()
@@ -167,7 +168,7 @@ fn matching_pair(
             alt.set(name, option).expect("an option of the switch");
         }
         let Ok(image) = render(alt) else { continue };
-        if image.rgba != images.ours.rgba
+        if image.image.rgba != images.ours.image.rgba
             && compare(&image, images.theirs, images.tolerance)
                 .first
                 .is_none()
@@ -214,10 +215,14 @@ mod tests {
         }
     }
 
+    fn drawn(px: u8) -> Drawn {
+        image(px).into()
+    }
+
     /// A pretend case: `specular_fog` draws 10 unclamped and 20 clamped; the other switches
     /// draw it alike.
-    fn render(b: Behaviours) -> Result<Image, String> {
-        Ok(image(match b.get("specular_fog") {
+    fn render(b: Behaviours) -> Result<Drawn, String> {
+        Ok(drawn(match b.get("specular_fog") {
             Some("clamped") => 20,
             _ => 10,
         }))
@@ -240,7 +245,7 @@ mod tests {
             none,
             &BTreeMap::new(),
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(20),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -256,7 +261,7 @@ mod tests {
             read,
             &BTreeMap::new(),
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(20),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -278,7 +283,7 @@ mod tests {
             all(),
             &BTreeMap::new(),
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(20),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -300,7 +305,7 @@ mod tests {
             all(),
             &BTreeMap::new(),
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(10),
                 tolerance: Tolerance::Exact,
                 matched: true,
@@ -321,7 +326,7 @@ mod tests {
         let mut base = Behaviours::default();
         base.set("fog_start_equals_end", "fogged").unwrap();
         let render40 = |b: Behaviours| {
-            Ok(image(match b.get("fog_start_equals_end") {
+            Ok(drawn(match b.get("fog_start_equals_end") {
                 Some("fogged") => 30,
                 _ => 40,
             }))
@@ -331,7 +336,7 @@ mod tests {
             all(),
             &BTreeMap::new(),
             Compared {
-                ours: &image(30),
+                ours: &drawn(30),
                 theirs: &image(40),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -346,7 +351,7 @@ mod tests {
         base.set("fog_start_equals_end", "vertex_fogged_table_step")
             .unwrap();
         let render_two = |b: Behaviours| {
-            Ok(image(match b.get("fog_start_equals_end") {
+            Ok(drawn(match b.get("fog_start_equals_end") {
                 Some("vertex_fogged_table_step") => 30,
                 _ => 40,
             }))
@@ -356,7 +361,7 @@ mod tests {
             all(),
             &BTreeMap::new(),
             Compared {
-                ours: &image(30),
+                ours: &drawn(30),
                 theirs: &image(40),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -371,7 +376,7 @@ mod tests {
             all(),
             &prefer,
             Compared {
-                ours: &image(30),
+                ours: &drawn(30),
                 theirs: &image(40),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -389,7 +394,7 @@ mod tests {
             all(),
             &BTreeMap::new(),
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(99),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -403,7 +408,7 @@ mod tests {
             all(),
             &BTreeMap::new(),
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(15),
                 tolerance: Tolerance::Steps(10),
                 matched: true,
@@ -432,7 +437,7 @@ mod tests {
         let pair_render = |b: Behaviours| {
             let fog = b.get("specular_fog") == Some("clamped");
             let size = b.get("minimum_size") == Some("one_pixel");
-            Ok(image(match (fog, size) {
+            Ok(drawn(match (fog, size) {
                 (true, true) => 30,
                 (true, false) => 20,
                 _ => 10,
@@ -452,7 +457,7 @@ mod tests {
             read,
             &prefer,
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(30),
                 tolerance: Tolerance::Exact,
                 matched: false,
@@ -476,7 +481,7 @@ mod tests {
             read,
             &prefer,
             Compared {
-                ours: &image(10),
+                ours: &drawn(10),
                 theirs: &image(40),
                 tolerance: Tolerance::Exact,
                 matched: false,

@@ -5,6 +5,26 @@ use pointillist_core::tolerance::Tolerance;
 
 use crate::runner::Image;
 
+/// pointillist's image of a case, and where its sprites sample by points (SPEC 7,
+/// `pointillist_core::tolerance::sprite_texel_edges`) the images of the same draws with sprite
+/// coordinates nudged by `SPRITE_TEXEL_NUDGES`: a device pixel may match any of them.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Drawn {
+    /// The image under pointillist's rules.
+    pub image: Image,
+    /// The nudged images; empty where no sprite samples by points.
+    pub nudged: Vec<Image>,
+}
+
+impl From<Image> for Drawn {
+    fn from(image: Image) -> Drawn {
+        Drawn {
+            image,
+            nudged: Vec::new(),
+        }
+    }
+}
+
 /// How two images of one case differ.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Comparison {
@@ -12,6 +32,9 @@ pub struct Comparison {
     pub pixels_differing: u64,
     /// The largest difference of one channel over the whole image, in 1/255 steps.
     pub max_channel_difference: u8,
+    /// Pixels that match only a nudged image: within `2^-6` of a texel edge, the device took the
+    /// neighbouring texel (SPEC 7).
+    pub neighbour_texels: u64,
     /// The first pixel beyond the tolerance, with pointillist's and the device's RGBA there.
     pub first: Option<(u32, u32, [u8; 4], [u8; 4])>,
     /// The magnified difference image.
@@ -27,24 +50,35 @@ pub fn scale_for(width: u32, height: u32) -> u32 {
 }
 
 /// Compares `ours` (pointillist) with `theirs` (the device), same size, channel by channel
-/// (alpha included). The difference image is magnified by [`scale_for`]: a pixel that is equal
-/// shows pointillist's colour at a quarter of its brightness, one within the tolerance dark
-/// yellow, one beyond it red, brighter the larger the difference.
-pub fn compare(ours: &Image, theirs: &Image, tolerance: Tolerance) -> Comparison {
-    let (w, h) = (ours.width, ours.height);
+/// (alpha included); a pixel's difference is the smallest of pointillist's image's and the
+/// nudged images' ([`Drawn`]). The difference image is magnified by [`scale_for`]: a pixel
+/// that is equal shows pointillist's colour at a quarter of its brightness, one within the
+/// tolerance dark yellow, one beyond it red, brighter the larger the difference.
+pub fn compare(ours: &Drawn, theirs: &Image, tolerance: Tolerance) -> Comparison {
+    let (w, h) = (ours.image.width, ours.image.height);
     let scale = scale_for(w, h);
     let limit = tolerance.steps();
     let mut pixels_differing = 0;
+    let mut neighbour_texels = 0;
     let mut max_channel_difference = 0;
     let mut first = None;
     let mut marks = Vec::with_capacity(w as usize * h as usize * 4);
+    let apart = |a: &[u8], b: &[u8]| (0..4).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
     for (i, (a, b)) in ours
+        .image
         .rgba
         .chunks_exact(4)
         .zip(theirs.rgba.chunks_exact(4))
         .enumerate()
     {
-        let d = (0..4).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+        let own = apart(a, b);
+        let mut d = own;
+        for n in &ours.nudged {
+            d = d.min(apart(&n.rgba[i * 4..i * 4 + 4], b));
+        }
+        if own > limit && d <= limit {
+            neighbour_texels += 1;
+        }
         max_channel_difference = max_channel_difference.max(d);
         let mark = if d == 0 {
             [a[0] / 4, a[1] / 4, a[2] / 4, 255]
@@ -76,6 +110,7 @@ pub fn compare(ours: &Image, theirs: &Image, tolerance: Tolerance) -> Comparison
     };
     Comparison {
         pixels_differing,
+        neighbour_texels,
         max_channel_difference,
         first,
         diff: Image {
@@ -111,6 +146,7 @@ mod tests {
             2,
             &[[0, 0, 0, 255], [9, 8, 8, 255], [1, 2, 3, 40], [9, 9, 9, 9]],
         );
+        let a = Drawn::from(a);
         let exact = compare(&a, &b, Tolerance::Exact);
         assert_eq!(exact.pixels_differing, 2);
         assert_eq!(exact.max_channel_difference, 36, "alpha counts");
@@ -126,6 +162,28 @@ mod tests {
         assert_eq!(at(0, 31), [146, 0, 0, 255]);
         assert_eq!(at(15, 15), [0, 0, 0, 255]);
         assert_eq!(at(16, 16), [2, 2, 2, 255]);
+    }
+
+    /// SPEC 7: a pixel that matches a nudged image only (a sprite pixel whose device took the
+    /// neighbouring texel) is within the tolerance and counted; the others are compared as
+    /// before.
+    #[test]
+    fn a_pixel_may_match_a_nudged_image() {
+        let ours = Drawn {
+            image: image(3, 1, &[[0, 0, 0, 255], [10, 0, 0, 255], [20, 0, 0, 255]]),
+            nudged: vec![
+                image(3, 1, &[[0, 0, 0, 255], [50, 0, 0, 255], [20, 0, 0, 255]]),
+                image(3, 1, &[[0, 0, 0, 255], [10, 0, 0, 255], [90, 0, 0, 255]]),
+            ],
+        };
+        let theirs = image(3, 1, &[[0, 0, 0, 255], [50, 0, 0, 255], [70, 0, 0, 255]]);
+        let c = compare(&ours, &theirs, Tolerance::Exact);
+        assert_eq!((c.pixels_differing, c.neighbour_texels), (1, 1));
+        assert_eq!(c.first, Some((2, 0, [20, 0, 0, 255], [70, 0, 0, 255])));
+        assert_eq!(
+            c.max_channel_difference, 20,
+            "the nearest image's difference"
+        );
     }
 
     #[test]

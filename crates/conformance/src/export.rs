@@ -18,7 +18,7 @@ use pointillist_core::light::{Light, Material};
 use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState};
 use pointillist_core::texture::Texture;
-use pointillist_core::tolerance::{Tolerance, device_tolerance};
+use pointillist_core::tolerance::{Tolerance, device_tolerance, sprite_texel_edges};
 use pointillist_core::{
     Backend, Device, DeviceDesc, DeviceError, DeviceState, RenderTarget, TransformType, Viewport,
 };
@@ -39,6 +39,9 @@ pub struct Exported {
     /// How close the device's image must come to pointillist's (SPEC 7): the largest tolerance
     /// of the draws after the last clear.
     pub tolerance: Tolerance,
+    /// Whether a draw after the last clear samples sprites by points, so that a device may take
+    /// a neighbouring texel (SPEC 7, [`sprite_texel_edges`]).
+    pub texel_edges: bool,
     /// The draws that reach the device (empty draws are not written).
     pub draws: usize,
 }
@@ -93,6 +96,7 @@ struct Recorder<'a> {
     /// While the particle part is written: the state the stream has set so far.
     written: Option<DeviceState>,
     tolerance: Tolerance,
+    texel_edges: bool,
     draws: usize,
 }
 
@@ -106,6 +110,7 @@ impl Recorder<'_> {
         Ok(Exported {
             bytes,
             tolerance: self.tolerance,
+            texel_edges: self.texel_edges,
             draws: self.draws,
         })
     }
@@ -245,12 +250,14 @@ impl Backend for Recorder<'_> {
 
     fn clear(&mut self, _: u32, _: f32) -> Result<(), DeviceError> {
         self.tolerance = Tolerance::Exact;
+        self.texel_edges = false;
         Ok(())
     }
 
     fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
         let (state, fvf) = (draw.state, draw.fvf);
         self.tolerance = self.tolerance.max(device_tolerance(draw));
+        self.texel_edges |= sprite_texel_edges(draw);
         self.draws += 1;
         if let Some(old) = self.written.take() {
             self.write_changes(&old, state);
@@ -403,6 +410,7 @@ pub fn export(
         textures: Vec::new(),
         written: None,
         tolerance: Tolerance::Exact,
+        texel_edges: false,
         draws: 0,
     };
     let desc = DeviceDesc {

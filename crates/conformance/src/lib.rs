@@ -30,13 +30,14 @@ use pointillist_core::Behaviours;
 use pointillist_core::behaviour::{BehaviourSet, BehaviourSetting};
 use pointillist_core::caps::Caps;
 use pointillist_core::color::rgba8_to_argb;
-use pointillist_core::tolerance::Tolerance;
+use pointillist_core::tolerance::{SPRITE_TEXEL_NUDGES, Tolerance};
 use pointillist_core::{Device, DeviceDesc, RenderTarget};
 use pointillist_cpu::CpuBackend;
 use pointillist_image::output::{Destination, PendingFile};
 use pointillist_particles::DrawBuffers;
 use pointillist_scene::Scene;
 
+use crate::compare::Drawn;
 use crate::expect::{Expectations, Status};
 use crate::report::{CaseImages, CaseReport};
 use crate::runner::{DeviceInfo, Image, Outcome, Runner, Watch};
@@ -162,19 +163,44 @@ pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
 /// pointillist's image of `scene` (its frame 0 when it moves) on the CPU backend with `caps`
 /// and the device behaviours `behaviours`.
 pub fn render(scene: &Scene, caps: Caps, behaviours: Behaviours) -> Result<Image, String> {
-    let (target, _) = render_target(scene, caps, behaviours)?;
-    Ok(Image {
+    let (target, _) = render_target(scene, caps, behaviours, [0.0; 2])?;
+    Ok(image_of(&target))
+}
+
+/// [`render`], and with `texel_edges` (the case's sprites sample by points, SPEC 7) the same
+/// draws under each of `SPRITE_TEXEL_NUDGES`, the images a device may draw within its
+/// sub-texel precision.
+fn drawn(
+    scene: &Scene,
+    caps: Caps,
+    behaviours: Behaviours,
+    texel_edges: bool,
+) -> Result<Drawn, String> {
+    let mut out = Drawn::from(render(scene, caps, behaviours)?);
+    if texel_edges {
+        for nudge in SPRITE_TEXEL_NUDGES {
+            let (target, _) = render_target(scene, caps, behaviours, nudge)?;
+            out.nudged.push(image_of(&target));
+        }
+    }
+    Ok(out)
+}
+
+fn image_of(target: &RenderTarget) -> Image {
+    Image {
         width: target.width,
         height: target.height,
         rgba: target.to_rgba8(),
-    })
+    }
 }
 
-/// [`render`]'s target, depth buffer included, and the behaviour switches its draws read.
+/// [`render`]'s target, depth buffer included, and the behaviour switches its draws read;
+/// point-sampled sprites nudged by `nudge` texels ([`CpuBackend::with_sprite_texel_nudge`]).
 fn render_target(
     scene: &Scene,
     caps: Caps,
     behaviours: Behaviours,
+    nudge: [f32; 2],
 ) -> Result<(RenderTarget, BehaviourSet), String> {
     let name = scene.file.display();
     let desc = DeviceDesc {
@@ -182,7 +208,7 @@ fn render_target(
         behaviours,
         ..scene.device_desc()
     };
-    let mut device = Device::new(CpuBackend::new(), desc)
+    let mut device = Device::new(CpuBackend::with_sprite_texel_nudge(nudge), desc)
         .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
     match export::frame_of(scene, None)? {
         None => scene.replay(&mut device).map_err(|e| e.to_string())?,
@@ -235,8 +261,9 @@ pub struct Summary {
 /// again when judged), so that the run holds one case's scene at a time.
 struct Prepared {
     case: Case,
-    /// The stream's tolerance, or why the case cannot run.
-    tolerance: Result<Tolerance, String>,
+    /// The stream's tolerance and whether its sprites sample by points ([`Exported`]), or why
+    /// the case cannot run.
+    tolerance: Result<(Tolerance, bool), String>,
 }
 
 /// Loads and exports `case` into a pending `CALLS_DIR/NAME.calls`, adding the files the scene
@@ -257,7 +284,7 @@ fn prepare(
             export::export_pending(&scene, None, &path)
         });
     let (tolerance, file) = match exported {
-        Ok((ex, file)) => (Ok(ex.tolerance), Some(file)),
+        Ok((ex, file)) => (Ok((ex.tolerance, ex.texel_edges)), Some(file)),
         Err(e) => (Err(e), None),
     };
     Ok((Prepared { case, tolerance }, file))
@@ -361,7 +388,7 @@ fn judge(
         matching: Vec::new(),
         shown: BTreeMap::new(),
     };
-    let tolerance = match &p.tolerance {
+    let (tolerance, texel_edges) = match &p.tolerance {
         Ok(t) => *t,
         Err(e) => {
             r.message = e.clone();
@@ -398,13 +425,9 @@ fn judge(
     };
     let caps = device_caps(device, &scene.caps);
     let behaviours = scene.behaviours.with(settings);
-    let (ours, depth, read) = match render_target(&scene, caps, behaviours) {
+    let (mut ours, depth, read) = match render_target(&scene, caps, behaviours, [0.0; 2]) {
         Ok((mut t, read)) => (
-            Image {
-                width: t.width,
-                height: t.height,
-                rgba: t.to_rgba8(),
-            },
+            Drawn::from(image_of(&t)),
             std::mem::take(&mut t.depth),
             read,
         ),
@@ -414,24 +437,41 @@ fn judge(
         }
     };
     r.facts = device_facts(&scene, &theirs, depth);
-    let cmp = compare::compare(&ours, &theirs, tolerance);
+    let mut cmp = compare::compare(&ours, &theirs, tolerance);
+    if cmp.first.is_some() && texel_edges {
+        // A device may take a neighbouring texel within 2^-6 of its edge (SPEC 7).
+        match drawn(&scene, caps, behaviours, true) {
+            Ok(nudged) => ours.nudged = nudged.nudged,
+            Err(e) => {
+                r.message = format!("pointillist: {e}");
+                return r;
+            }
+        }
+        cmp = compare::compare(&ours, &theirs, tolerance);
+    }
     r.pixels_differing = cmp.pixels_differing;
     r.max_channel_difference = cmp.max_channel_difference;
     let tol = match tolerance.steps() {
         0 => "exact".to_string(),
         n => format!("{n}/255"),
     };
+    let neighbours = match cmp.neighbour_texels {
+        0 => String::new(),
+        n => format!(
+            "; {n} sprite pixels took the neighbouring texel within 2^-6 of its edge (SPEC 7)"
+        ),
+    };
     if let Some((x, y, a, b)) = cmp.first {
         r.status = Status::Differs;
         r.message = format!(
             "{} pixels differ beyond the tolerance ({tol}); the first at ({x}, {y}): pointillist \
-             RGBA {a:?}, device {b:?}; largest channel difference {}",
+             RGBA {a:?}, device {b:?}; largest channel difference {}{neighbours}",
             cmp.pixels_differing, cmp.max_channel_difference
         );
     } else {
         r.status = Status::Match;
         r.message = format!(
-            "matches (tolerance {tol}; largest channel difference {})",
+            "matches (tolerance {tol}; largest channel difference {}{neighbours})",
             cmp.max_channel_difference
         );
     }
@@ -445,7 +485,7 @@ fn judge(
             tolerance,
             matched: r.status == Status::Match,
         },
-        |b| render(&scene, caps, b),
+        |b| drawn(&scene, caps, b, texel_edges),
     );
     if !found.matching.is_empty() {
         let options: Vec<String> = found
@@ -478,7 +518,7 @@ fn judge(
         );
     }
     let files = [
-        (format!("img/{}.pointillist.png", r.name), &ours),
+        (format!("img/{}.pointillist.png", r.name), &ours.image),
         (format!("img/{}.device.png", r.name), &theirs),
         (format!("img/{}.diff.png", r.name), &cmp.diff),
     ];
@@ -504,7 +544,7 @@ fn judge(
         pointillist: a,
         device: b,
         diff: c,
-        shown: (ours.width * cmp.scale, ours.height * cmp.scale),
+        shown: (ours.image.width * cmp.scale, ours.image.height * cmp.scale),
     });
     r
 }

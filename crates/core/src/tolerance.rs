@@ -94,6 +94,30 @@ pub fn filtering_steps(weights: u32) -> u8 {
     steps.min(255) as u8
 }
 
+/// SPEC 7: how far, in texels, a device's point-sampled sprite coordinate may lie from
+/// pointillist's: `2^-6` ([`SUBTEXEL_BITS`]). A sprite pixel whose coordinate lies that close to
+/// a texel edge may take the neighbouring texel on a device.
+pub const SPRITE_TEXEL_SLACK: f32 = 1.0 / (1u32 << SUBTEXEL_BITS) as f32;
+
+/// SPEC 7: the four diagonal nudges of a sprite's `(u, v)`, in texels, under which the
+/// conformance kit draws a case again where [`sprite_texel_edges`] holds. A pixel within
+/// [`SPRITE_TEXEL_SLACK`] of a column edge, a row edge or both takes its neighbour under one
+/// of them, and keeps its texel along an axis whose edge is further away.
+pub const SPRITE_TEXEL_NUDGES: [[f32; 2]; 4] = [
+    [-SPRITE_TEXEL_SLACK, -SPRITE_TEXEL_SLACK],
+    [-SPRITE_TEXEL_SLACK, SPRITE_TEXEL_SLACK],
+    [SPRITE_TEXEL_SLACK, -SPRITE_TEXEL_SLACK],
+    [SPRITE_TEXEL_SLACK, SPRITE_TEXEL_SLACK],
+];
+
+/// SPEC 7: true when `draw`'s sprites (POINTSPRITEENABLE) sample a texture and every sampling
+/// stage samples by points (MIN and MAG filters POINT or NONE, MIPFILTER not LINEAR): a device
+/// may then take a texel's neighbour within [`SPRITE_TEXEL_SLACK`] of its edge. Linear filters
+/// have their own tolerance ([`filtering_steps`]).
+pub fn sprite_texel_edges(draw: &DrawSetup<'_>) -> bool {
+    !draw.pixel.is_flat() && filter_weights(draw) == 0
+}
+
 /// The interpolation weights of the draw's most linearly filtering sampling stage: two for a
 /// linear MIN or MAG filter (bilinear), one more for MIPFILTER LINEAR; 0 when every stage
 /// samples by points.
@@ -246,6 +270,31 @@ mod tests {
             tolerance(&s),
             Tolerance::Steps(1),
             "the backends stay within one"
+        );
+    }
+
+    /// SPEC 7: only sprites sampled by points on every stage may take a neighbouring texel;
+    /// flat points and linear filters do not.
+    #[test]
+    fn spec_7_point_sampled_sprites_may_take_a_neighbouring_texel() {
+        assert_eq!(SPRITE_TEXEL_SLACK, 1.0 / 64.0);
+        let edges = |s: &DeviceState| {
+            sprite_texel_edges(&DrawSetup::new(s, Fvf(Fvf::XYZRHW.0 | Fvf::DIFFUSE.0)))
+        };
+        let mut s = state();
+        s.textures[0] = Some(Arc::new(
+            crate::texture::Texture::from_argb(2, 2, vec![0; 4]).expect("texture"),
+        ));
+        assert!(
+            !edges(&s),
+            "without POINTSPRITEENABLE every pixel samples one coordinate"
+        );
+        s.render_states[RenderState::POINTSPRITEENABLE.0 as usize] = 1;
+        assert!(edges(&s), "a point-sampled sprite");
+        s.sampler_states[0][SamplerState::MAGFILTER.0 as usize] = TextureFilter::Linear as u32;
+        assert!(
+            !edges(&s),
+            "a bilinear sprite has the filtering tolerance instead"
         );
     }
 }

@@ -57,12 +57,26 @@ pub struct CpuBackend {
     pending_clear: Option<raster::Clear>,
     /// The rasterizer's bins, kept from draw to draw.
     bins: raster::Bins,
+    /// [`CpuBackend::with_sprite_texel_nudge`]'s nudge, in texels; zero otherwise.
+    sprite_texel_nudge: [f32; 2],
 }
 
 impl CpuBackend {
     /// A backend with no target yet; [`Device::new`] creates it.
     pub fn new() -> CpuBackend {
         CpuBackend::default()
+    }
+
+    /// A backend that draws every point-sampled sprite with its texture coordinates moved by
+    /// `nudge` texels of the largest sampled texture (`[du, dv]`): how the conformance kit
+    /// draws what a device within SPEC 7's sub-texel precision may draw
+    /// (`pointillist_core::tolerance::SPRITE_TEXEL_NUDGES`). Coverage, linearly filtered
+    /// draws and everything else are drawn as by [`CpuBackend::new`].
+    pub fn with_sprite_texel_nudge(nudge: [f32; 2]) -> CpuBackend {
+        CpuBackend {
+            sprite_texel_nudge: nudge,
+            ..CpuBackend::default()
+        }
     }
 
     /// The target as drawn so far, without copying.
@@ -98,7 +112,8 @@ impl Backend for CpuBackend {
 
     fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
         let clear = self.pending_clear.take();
-        raster::draw(&mut self.target, &mut self.bins, clear, draw, vertices);
+        let out = (&mut self.target, &mut self.bins, clear);
+        raster::draw(out, draw, vertices, self.sprite_texel_nudge);
         Ok(())
     }
 

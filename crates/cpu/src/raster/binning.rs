@@ -191,13 +191,14 @@ impl Binned for Sprite {
         &mut bins.sprite
     }
     #[inline]
-    fn new(_: &DrawContext, p: &Square, _: u32) -> Option<Sprite> {
+    fn new(ctx: &DrawContext, p: &Square, _: u32) -> Option<Sprite> {
+        let (left, top) = ctx.sprite_edges(p.left, p.top, p.size);
         Some(Sprite {
             rect: Rect16::new(p.rect),
             z: p.z,
             diffuse: p.diffuse,
-            left: p.left,
-            top: p.top,
+            left,
+            top,
             size: p.size,
         })
     }

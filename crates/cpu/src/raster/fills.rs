@@ -45,6 +45,14 @@ pub(super) fn fill<B: Blender>(
     if ctx.flat {
         fill_flat(ctx, b, p, band);
     } else {
+        let (left, top) = ctx.sprite_edges(p.left, p.top, p.size);
+        let nudged;
+        let p = if (left, top) == (p.left, p.top) {
+            p
+        } else {
+            nudged = ScreenPoint { left, top, ..*p };
+            &nudged
+        };
         match ctx.shading {
             Shading::Modulate(alpha) => match &ctx.textures[0] {
                 Some(t) => fill_modulate(ctx, b, &SpriteView::of(p), t, band, s, alpha),

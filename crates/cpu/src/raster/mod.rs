@@ -32,6 +32,7 @@ use pointillist_core::draw::DrawSetup;
 use pointillist_core::pixel::{BlendClass, PixelSetup};
 use pointillist_core::point::PointSetup;
 use pointillist_core::texture::SamplerDesc;
+use pointillist_core::tolerance::sprite_texel_edges;
 
 use crate::lanes::Level as LanesLevel;
 use crate::stage::SquareStage;
@@ -89,9 +90,35 @@ struct DrawContext<'a> {
     /// portable level. Tests set the portable twin, or none to fill every MODULATE sprite pixel
     /// by pixel.
     spans: Option<LanesLevel>,
+    /// What a sprite's `(u, v)` is moved by ([`CpuBackend::with_sprite_texel_nudge`]), in
+    /// texture coordinates: `[0, 0]` but for the conformance kit's nudged draws.
+    ///
+    /// [`CpuBackend::with_sprite_texel_nudge`]: crate::CpuBackend::with_sprite_texel_nudge
+    sprite_nudge: [f32; 2],
 }
 
 impl DrawContext<'_> {
+    /// The near edge of a sprite of side `size` along an axis, moved so that its coordinates
+    /// (SPEC 4.3's `(k - edge) / size`) grow by the axis's `nudge`; unchanged when it is 0.
+    #[inline(always)]
+    fn nudged_edge(edge: f32, size: f32, nudge: f32) -> f32 {
+        if nudge == 0.0 {
+            edge
+        } else {
+            edge - nudge * size
+        }
+    }
+
+    /// A sprite's near edges `(left, top)` under [`DrawContext::sprite_nudge`].
+    #[inline(always)]
+    fn sprite_edges(&self, left: f32, top: f32, size: f32) -> (f32, f32) {
+        let [du, dv] = self.sprite_nudge;
+        (
+            Self::nudged_edge(left, size, du),
+            Self::nudged_edge(top, size, dv),
+        )
+    }
+
     /// The points of the draw.
     fn point_count(&self) -> u32 {
         (self.vertices.len() / self.points.layout().stride) as u32
@@ -124,20 +151,29 @@ struct DrawTarget<'t> {
     clear: Option<Clear>,
 }
 
-/// Draws `vertices` after writing `clear`, if any, to the whole target.
+/// Draws `vertices` after writing `clear`, if any, to the whole target, point-sampled sprites'
+/// coordinates moved by `nudge` texels ([`CpuBackend::with_sprite_texel_nudge`]).
+///
+/// [`CpuBackend::with_sprite_texel_nudge`]: crate::CpuBackend::with_sprite_texel_nudge
 pub(crate) fn draw(
-    target: &mut RenderTarget,
-    bins: &mut Bins,
-    clear: Option<Clear>,
+    (target, bins, clear): (&mut RenderTarget, &mut Bins, Option<Clear>),
     draw: &DrawSetup<'_>,
     vertices: &[u8],
+    nudge: [f32; 2],
 ) {
     let out = DrawTarget {
         target,
         bins,
         clear,
     };
-    draw_context(&context(draw, vertices), out);
+    let mut ctx = context(draw, vertices);
+    if nudge != [0.0; 2] && sprite_texel_edges(draw) {
+        let (w, h) = ctx.textures.iter().flatten().fold((1, 1), |(w, h), t| {
+            (w.max(t.texture.width()), h.max(t.texture.height()))
+        });
+        ctx.sprite_nudge = [nudge[0] / w as f32, nudge[1] / h as f32];
+    }
+    draw_context(&ctx, out);
 }
 
 /// Draws with the states resolved in `ctx`, through the blend family's fill.
@@ -190,6 +226,7 @@ fn context<'a>(draw: &DrawSetup<'a>, vertices: &'a [u8]) -> DrawContext<'a> {
         textures,
         vertices,
         spans: Some(spans),
+        sprite_nudge: [0.0; 2],
     };
     ctx.binned = ctx.bins();
     // Binned sprites read stage 0's fixed level unpacked and planar, when it is small.
