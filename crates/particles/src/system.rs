@@ -19,8 +19,9 @@
 //! - **Births.** Continuous emission gives birth to particle `k` at `start + k / rate` while
 //!   `k / rate < duration`; a burst cycle's particles are born at its time. Every birth gets the
 //!   next spawn index of its emitter (continuous births first, then bursts in list order) and
-//!   draws all its randomness from [`Rng::for_particle`]`(seed, emitter, index)`. A birth that
-//!   finds `max_particles` alive is dropped (and counted), its index consumed.
+//!   draws all its randomness from [`Rng::for_particle`](crate::Rng::for_particle)`(seed,
+//!   emitter, index)`. A birth that finds `max_particles` alive is dropped (and counted), its
+//!   index consumed.
 //! - **Determinism.** Each particle's update reads only its own components and the emitter's
 //!   constants, and births and deaths are placed by a sequential, order-preserving rule, so the
 //!   same seed and steps give bit-identical state and vertices whatever the thread count, and
