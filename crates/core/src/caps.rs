@@ -4,6 +4,8 @@
 //! software vertex processing the runtime emulates sprites, so [`Caps::effective`] lifts the
 //! size limits the way the D3D9 runtime does.
 
+use crate::device::lights::MAX_ACTIVE_LIGHTS;
+
 /// How vertices are processed: by the device (its caps rule) or by the runtime (SPEC 6).
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Default)]
 pub enum VertexProcessing {
@@ -33,7 +35,7 @@ pub struct Caps {
     /// (SPEC 9.5).
     pub w_fog: bool,
     /// D3DCAPS9.MaxActiveLights: how many enabled lights light a vertex; the pipeline carries
-    /// at most [`MAX_ACTIVE_LIGHTS`](crate::light::MAX_ACTIVE_LIGHTS) (SPEC 8.2).
+    /// at most [`MAX_ACTIVE_LIGHTS`] (SPEC 8.2).
     pub max_active_lights: u32,
 }
 
@@ -111,11 +113,9 @@ impl Caps {
 
     /// The caps the pipeline applies: with software vertex processing, per-vertex size and
     /// sizes up to [`SOFTWARE_MAX_POINT_SIZE`] whatever the device reports (SPEC 6); active
-    /// lights at most [`MAX_ACTIVE_LIGHTS`](crate::light::MAX_ACTIVE_LIGHTS) (SPEC 8.2).
+    /// lights at most [`MAX_ACTIVE_LIGHTS`] (SPEC 8.2).
     pub fn effective(&self) -> Caps {
-        let lights = self
-            .max_active_lights
-            .min(crate::light::MAX_ACTIVE_LIGHTS as u32);
+        let lights = self.max_active_lights.min(MAX_ACTIVE_LIGHTS as u32);
         match self.vertex_processing {
             VertexProcessing::Hardware => Caps {
                 max_active_lights: lights,

@@ -9,12 +9,12 @@
 use crate::behaviour::{
     BehaviourSet, DepthClip, LightOrder, PointSizeMaxDefault, PretransformedTableFog, TableFogDepth,
 };
+use crate::device::lights::LightType;
+use crate::device::state::DeviceState;
 use crate::fog::{FogSource, is_affine, table_distance};
 use crate::fvf::Fvf;
-use crate::light::LightType;
 use crate::pixel::{BlendClass, PixelSetup};
 use crate::point::{PointSetup, clamp_bounds, depth_clipped};
-use crate::state::DeviceState;
 use crate::states::{FogMode, RenderState};
 
 /// A draw's states, resolved.
@@ -363,7 +363,7 @@ mod tests {
     /// an active point or spot light's attenuation can overflow (att0 below 1 / FLT_MAX).
     #[test]
     fn the_lighting_switches_are_read_where_they_can_change_pixels() {
-        use crate::light::{Light, LightType};
+        use crate::device::lights::{Light, LightType};
         let normal = Fvf(Fvf::XYZ.0 | Fvf::NORMAL.0);
         let lit = |prepare: &dyn Fn(&mut DeviceState)| {
             let mut s = DeviceState::new(Api::D3d9, Caps::reference(), 8, 8);

@@ -9,9 +9,9 @@ use crate::behaviour::{
     FogStartEqualsEnd, FogWithoutSpecular, PretransformedTableFog, TableFogDepth,
 };
 use crate::color::{Rgba, unpack};
+use crate::device::state::DeviceState;
 use crate::fvf::Fvf;
 use crate::math::Mat4;
-use crate::state::DeviceState;
 use crate::states::{FogMode, RenderState};
 
 /// Where a draw's fog factor comes from (SPEC 9.2).

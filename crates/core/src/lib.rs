@@ -6,6 +6,23 @@
 //! D3D-convention matrices, the per-point stage (transform, size, clamp, clip, screen square,
 //! sprite coordinates), textures and their sampling, and the fixed-function pixel arithmetic.
 //! Backends (`pointillist-cpu`, the GPU backend) call these functions and are tested against them.
+//!
+//! The modules, each importing only modules listed before it:
+//!
+//! 1. Values and their tables: [`math`] (matrices, SPEC 1), [`color`] (D3DCOLOR, SPEC 1),
+//!    [`behaviour`] (where devices differ), [`states`] (render, stage and sampler states, SPEC
+//!    2.6, 2.7), [`fvf`] (vertex formats), [`texture`] (textures and the reference sampler, SPEC
+//!    5.2).
+//! 2. What a device holds: its lights and material (`device/lights.rs`, SPEC 8.2, re-exported
+//!    by [`light`]), its [`caps`] (SPEC 6), and every state it has been set ([`DeviceState`],
+//!    `device/state.rs`).
+//! 3. The rules, each resolved once per draw from the state: [`light`] (SPEC 8), [`fog`]
+//!    (SPEC 9), [`point`] (SPEC 1 to 4, lighting and fogging each point with the two before),
+//!    [`pixel`] (SPEC 5); then [`draw`], one draw resolved with all of them, and [`tolerance`]
+//!    (SPEC 7), how close two images of the same draws must be.
+//! 4. The [`device`]: D3D9's calls, validated, over a [`Backend`] (`device/mod.rs`), and its
+//!    typed vertices. The state files of the `device` folder sit in 2, below the rules that read
+//!    them; the rules never import `device/mod.rs`.
 
 pub mod behaviour;
 pub mod caps;
@@ -18,16 +35,14 @@ pub mod light;
 pub mod math;
 pub mod pixel;
 pub mod point;
-pub mod state;
 pub mod states;
 pub mod texture;
 pub mod tolerance;
 
 pub use behaviour::Behaviours;
 pub use device::{
-    Backend, DRAW_SCRATCH_BYTES, Device, DeviceDesc, DeviceError, MAX_DRAW_VERTICES,
-    MAX_TARGET_SIZE, RenderTarget, StateValue, TransformType, Vertex, XyzDiffuse, XyzPsizeDiffuse,
-    XyzRhwDiffuse, XyzRhwPsizeDiffuse,
+    Backend, DRAW_SCRATCH_BYTES, Device, DeviceDesc, DeviceError, DeviceState, MAX_CLIP_PLANES,
+    MAX_DRAW_VERTICES, MAX_STAGES, MAX_TARGET_SIZE, RenderTarget, StateValue, TransformType,
+    Vertex, Viewport, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse, XyzRhwPsizeDiffuse,
 };
 pub use draw::DrawSetup;
-pub use state::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES, Viewport};

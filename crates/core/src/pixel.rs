@@ -6,8 +6,8 @@
 
 use crate::behaviour::SpecularFog;
 use crate::color::{Rgba, pack, unpack};
+use crate::device::state::{DeviceState, MAX_STAGES};
 use crate::fog::fog_blend;
-use crate::state::{DeviceState, MAX_STAGES};
 use crate::states::{
     Blend, BlendOp, Cmp, RenderState, TA_ALPHAREPLICATE, TA_COMPLEMENT, TA_CONSTANT, TA_CURRENT,
     TA_DIFFUSE, TA_SELECTMASK, TA_SPECULAR, TA_TEMP, TA_TEXTURE, TA_TFACTOR, TextureOp,

@@ -7,11 +7,11 @@
 
 use crate::behaviour::{DepthClip, MinimumSize, PretransformedPointScale, XyzwInputW, ZeroRhw};
 use crate::caps::{Caps, VertexProcessing};
+use crate::device::state::{DeviceState, Viewport};
 use crate::fog::{FogDepth, FogSetup};
 use crate::fvf::{Fvf, Layout, read_f32, read_u32};
 use crate::light::LightSetup;
 use crate::math::Mat4;
-use crate::state::{DeviceState, Viewport};
 use crate::states::RenderState;
 
 /// POINTSCALE_A, B, C and the viewport height `Vh` (SPEC 2.2).

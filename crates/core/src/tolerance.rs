@@ -4,9 +4,9 @@
 //! the backend comparisons (`pointillist-testkit`) and the conformance kit
 //! (`pointillist-conformance`) use.
 
+use crate::device::lights::LightType;
 use crate::draw::DrawSetup;
 use crate::fog::FogSource;
-use crate::light::LightType;
 use crate::states::FogMode;
 use crate::texture::{SamplerDesc, is_linear};
 
@@ -164,8 +164,8 @@ mod tests {
 
     use super::*;
     use crate::caps::Caps;
+    use crate::device::state::DeviceState;
     use crate::fvf::Fvf;
-    use crate::state::DeviceState;
     use crate::states::{Api, Blend, BlendOp, RenderState, SamplerState, TextureFilter};
 
     fn state() -> DeviceState {

@@ -2,23 +2,21 @@
 //!
 //! Contract:
 //! - A [`GpuContext`] owns (or borrows from an engine, [`GpuContext::from_device`]) one
-//!   `wgpu::Device` and its queue, the bind-group and pipeline layouts every point pipeline
-//!   shares, and the pipeline cache keyed by [`PipelineKey`]. It is `Send + Sync`; share it with
-//!   `Arc` between renderers and backends.
+//!   `wgpu::Device` and its queue, and the pipeline cache ([`crate::cache`]: the layouts every
+//!   point pipeline shares and the pipelines keyed by [`PipelineKey`]), which it compiles inside
+//!   its error scopes. It is `Send + Sync`; share it with `Arc` between renderers and backends.
 //! - Nothing here panics on device errors: a missing adapter, a refused device, validation
 //!   errors, out-of-memory and device loss become [`GpuError`]s. Work is wrapped in error scopes
 //!   ([`GpuContext::scoped`]); errors outside any scope are recorded by the uncaptured-error
 //!   handler and reported by the next [`GpuContext::check`].
 
-use std::collections::HashMap;
 use std::fmt;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use pointillist_core::{DeviceError, MAX_STAGES};
+use pointillist_core::DeviceError;
 
-use crate::exact::{ExactLayouts, ExactPipelines};
-use crate::pipeline::{ClipPlaneMethod, PipelineKey, create_pipeline};
-use crate::shader;
+use crate::cache::{ExactLayouts, ExactPipelines, Pipelines};
+use crate::key::{ClipPlaneMethod, PipelineKey};
 
 /// Why the GPU backend could not do something.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -101,13 +99,8 @@ pub struct GpuContext {
     /// Discrete, integrated, virtual or CPU (bounds the exact path's work).
     device_type: wgpu::DeviceType,
     limits: wgpu::Limits,
-    bind_group_layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: Mutex<HashMap<PipelineKey, wgpu::RenderPipeline>>,
-    /// Layouts and the depth writer of the exact path.
-    exact: ExactLayouts,
-    /// The exact path's compute pipelines (records, tiles) per key.
-    exact_pipelines: Mutex<HashMap<PipelineKey, ExactPipelines>>,
+    /// The shared layouts and the pipelines compiled so far.
+    pipelines: Pipelines,
     /// 1x1 texture bound to stages that do not sample.
     dummy_view: wgpu::TextureView,
     /// Set by the device-lost callback.
@@ -135,75 +128,15 @@ fn classify(e: wgpu::Error) -> GpuError {
     }
 }
 
-/// A bind-group layout entry for a storage buffer.
-pub(crate) fn storage_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    read_only: bool,
-) -> wgpu::BindGroupLayoutEntry {
-    buffer_entry(
-        binding,
-        visibility,
-        wgpu::BufferBindingType::Storage { read_only },
-    )
-}
-
-/// A bind-group layout entry for a uniform buffer.
-pub(crate) fn uniform_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-) -> wgpu::BindGroupLayoutEntry {
-    buffer_entry(binding, visibility, wgpu::BufferBindingType::Uniform)
-}
-
-fn buffer_entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    ty: wgpu::BufferBindingType,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
+/// The most tile passes (tiles of the target x batches of 256 points) one exact draw may cost
+/// on an adapter of type `device_type`. On a CPU adapter a pass costs about 60 us (lavapipe,
+/// Mesa 22.3, one EPYC Zen 4 core: 40,000 points on 640x480 took 12.9 s), so 2^18 passes take
+/// about 15 s there; GPUs run thousands of tiles at once (not measured here).
+fn work_limit(device_type: wgpu::DeviceType) -> u64 {
+    match device_type {
+        wgpu::DeviceType::Cpu => 1 << 18,
+        _ => 1 << 26,
     }
-}
-
-/// Bind-group entries binding each of `buffers` whole, at bindings 0, 1, ...
-pub(crate) fn whole_buffers<'a>(buffers: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
-    (0u32..)
-        .zip(buffers)
-        .map(|(binding, buffer)| wgpu::BindGroupEntry {
-            binding,
-            resource: buffer.as_entire_binding(),
-        })
-        .collect()
-}
-
-/// The value of `key` in `cache`, or `build`'s, compiled inside an error scope and cached; a
-/// validation error names `what` and the key.
-fn cached<T: Clone>(
-    ctx: &GpuContext,
-    cache: &Mutex<HashMap<PipelineKey, T>>,
-    key: &PipelineKey,
-    what: &str,
-    build: impl FnOnce() -> T,
-) -> Result<T, GpuError> {
-    if let Some(p) = cache.lock().ok().and_then(|m| m.get(key).cloned()) {
-        return Ok(p);
-    }
-    let value = ctx.scoped(build).map_err(|e| match e {
-        GpuError::Validation(m) => GpuError::Validation(format!("{what} for {key:?}: {m}")),
-        other => other,
-    })?;
-    if let Ok(mut m) = cache.lock() {
-        m.insert(key.clone(), value.clone());
-    }
-    Ok(value)
 }
 
 /// The downlevel capabilities the backend uses, each with what needs it (an OpenGL adapter
@@ -339,38 +272,7 @@ impl GpuContext {
                 .to_string(),
             clip_planes,
         };
-        let stages =
-            wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
-        let mut entries = vec![
-            uniform_entry(0, stages),
-            storage_entry(
-                1,
-                wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE,
-                true,
-            ),
-        ];
-        for stage in 0..MAX_STAGES as u32 {
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: 2 + stage,
-                visibility: stages,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Uint,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            });
-        }
-        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("pointillist draw"),
-            entries: &entries,
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("pointillist draw"),
-            bind_group_layouts: &[Some(&bind_group_layout)],
-            immediate_size: 0,
-        });
-        let exact = ExactLayouts::new(&device, &bind_group_layout);
+        let pipelines = Pipelines::new(&device);
         let dummy = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("pointillist no texture"),
             size: wgpu::Extent3d {
@@ -394,11 +296,7 @@ impl GpuContext {
             summary,
             device_type: info.device_type,
             limits,
-            bind_group_layout,
-            pipeline_layout,
-            pipelines: Mutex::new(HashMap::new()),
-            exact,
-            exact_pipelines: Mutex::new(HashMap::new()),
+            pipelines,
             dummy_view,
             lost,
             uncaptured,
@@ -428,7 +326,7 @@ impl GpuContext {
     /// The most tile passes (tiles of 16x16 pixels x batches of 256 points) one draw through
     /// the exact blending path may cost on this adapter; a draw beyond it is refused.
     pub fn exact_work_limit(&self) -> u64 {
-        crate::exact::work_limit(self.device_type)
+        work_limit(self.device_type)
     }
 
     /// The device's limits.
@@ -437,7 +335,7 @@ impl GpuContext {
     }
 
     pub(crate) fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.bind_group_layout
+        &self.pipelines.bind_group_layout
     }
 
     pub(crate) fn dummy_view(&self) -> &wgpu::TextureView {
@@ -475,34 +373,43 @@ impl GpuContext {
         Ok(value)
     }
 
+    /// `build`, compiling a pipeline of `key`, inside an error scope; a validation error names
+    /// `what` and the key.
+    fn compile<T>(
+        &self,
+        what: &str,
+        key: &PipelineKey,
+        build: impl FnOnce() -> T,
+    ) -> Result<T, GpuError> {
+        self.scoped(build).map_err(|e| match e {
+            GpuError::Validation(m) => GpuError::Validation(format!("{what} for {key:?}: {m}")),
+            other => other,
+        })
+    }
+
     /// The render pipeline of `key`, generated and compiled on first use.
     pub(crate) fn pipeline(&self, key: &PipelineKey) -> Result<wgpu::RenderPipeline, GpuError> {
-        cached(self, &self.pipelines, key, "pipeline", || {
-            create_pipeline(
-                &self.device,
-                &self.pipeline_layout,
-                key,
-                &shader::generate(key),
-            )
+        let p = &self.pipelines;
+        p.render.get_or_compile(key, || {
+            self.compile("pipeline", key, || p.compile_render(&self.device, key))
         })
     }
 
     pub(crate) fn exact_layouts(&self) -> &ExactLayouts {
-        &self.exact
+        &self.pipelines.exact
     }
 
     /// The exact path's compute pipelines of `key`, generated and compiled on first use.
     pub(crate) fn exact_pipelines(&self, key: &PipelineKey) -> Result<ExactPipelines, GpuError> {
-        cached(self, &self.exact_pipelines, key, "exact path", || {
-            self.exact
-                .create_pipelines(&self.device, &shader::generate_compute(key))
+        let p = &self.pipelines;
+        p.compute.get_or_compile(key, || {
+            self.compile("exact path", key, || p.compile_exact(&self.device, key))
         })
     }
 
     /// Number of pipelines compiled so far.
     pub fn pipeline_count(&self) -> usize {
-        self.pipelines.lock().map_or(0, |m| m.len())
-            + self.exact_pipelines.lock().map_or(0, |m| m.len())
+        self.pipelines.count()
     }
 
     /// Waits for a buffer-mapping callback that sends its result on `receiver`. The callback
@@ -543,6 +450,11 @@ impl GpuContext {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cpu_adapter_bounds_the_exact_path_tighter() {
+        assert_eq!(work_limit(wgpu::DeviceType::Cpu), 1 << 18);
+    }
 
     /// The check reads the flag each part of the backend needs: an OpenGL adapter without
     /// depth copies (llvmpipe's) is refused for that flag, not accepted to fail at readback.

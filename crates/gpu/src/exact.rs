@@ -1,5 +1,5 @@
-//! The exact blending path: draws whose blend multiplies by fractional factors run as two
-//! compute passes that blend in a shader owning each pixel (`exact.wgsl`).
+//! The exact blending path: draws whose blend (SPEC 5.5) multiplies by fractional factors run
+//! as two compute passes that blend in a shader owning each pixel (`exact.wgsl`).
 //!
 //! Contract:
 //! - A GPU's fixed-function blender rounds each blend to 8 bits on its own terms (lavapipe
@@ -16,57 +16,27 @@
 //!   writing `frag_depth`, since a depth texture cannot be a copy destination).
 //! - Draws larger than one records buffer are split, in vertex order.
 //! - `cs_tiles` costs every tile of the target a pass over every batch of 256 points, whatever
-//!   the points cover: a draw whose tiles x batches exceed [`work_limit`] is refused before
-//!   any work with a one-line error naming the limit (never an unbounded wait).
+//!   the points cover: a draw whose tiles x batches exceed the adapter's limit
+//!   ([`GpuContext::exact_work_limit`]) is refused before any work with a one-line error naming
+//!   the limit (never an unbounded wait).
+//! - The generated compute module is [`crate::shader::compute`]'s, its pipelines and layouts
+//!   are [`crate::cache`]'s; this module keeps only the draw.
 
 use std::sync::Arc;
 
 use pointillist_core::DrawSetup;
 
-use crate::context::{GpuContext, GpuError, storage_entry, uniform_entry, whole_buffers};
-use crate::pipeline::TargetDesc;
+use crate::cache::whole_buffers;
+use crate::context::{GpuContext, GpuError};
+use crate::key::TargetDesc;
 use crate::renderer::{PointRenderer, loaded_depth};
-use crate::shader;
-
-/// Tile side of `cs_tiles` (its workgroup is TILE x TILE invocations, one per pixel).
-pub(crate) const TILE: u32 = 16;
-/// Workgroup size of `cs_points`.
-pub(crate) const POINTS_PER_GROUP: u32 = 64;
-
-/// Copies the depth buffer of the exact path into the depth texture.
-const DEPTH_WRITER: &str = "
-struct Exact { width: u32, height: u32, pitch: u32, count: u32, }
-@group(0) @binding(0) var<uniform> X: Exact;
-@group(0) @binding(1) var<storage, read> DEPTH: array<f32>;
-
-@vertex
-fn vs(@builtin(vertex_index) v: u32) -> @builtin(position) vec4f {
-    let p = vec2f(f32((v << 1u) & 2u), f32(v & 2u));
-    return vec4f(p * 2.0 - 1.0, 0.0, 1.0);
-}
-
-@fragment
-fn fs(@builtin(position) pos: vec4f) -> @builtin(frag_depth) f32 {
-    return clamp(DEPTH[u32(pos.y) * X.pitch + u32(pos.x)], 0.0, 1.0);
-}
-";
+use crate::shader::compute::{MAX_RECORD_WORDS, POINTS_PER_GROUP, TILE, record_words};
 
 /// Points `cs_tiles` tests per batch: one per invocation of a tile.
 const BATCH: u64 = (TILE * TILE) as u64;
 
-/// The most tile passes (tiles of the target x batches of 256 points) one exact draw may cost
-/// on an adapter of type `device_type`. On a CPU adapter a pass costs about 60 us (lavapipe,
-/// Mesa 22.3, one EPYC Zen 4 core: 40,000 points on 640x480 took 12.9 s), so 2^18 passes take
-/// about 15 s there; GPUs run thousands of tiles at once (not measured here).
-pub(crate) fn work_limit(device_type: wgpu::DeviceType) -> u64 {
-    match device_type {
-        wgpu::DeviceType::Cpu => 1 << 18,
-        _ => 1 << 26,
-    }
-}
-
 /// Refuses a draw of `points` points on a `width` x `height` target whose exact path would
-/// cost more than `limit` tile passes ([`work_limit`]).
+/// cost more than `limit` tile passes ([`GpuContext::exact_work_limit`]).
 fn check_work(limit: u64, points: u64, width: u32, height: u32) -> Result<(), GpuError> {
     let tiles = u64::from(width.div_ceil(TILE)) * u64::from(height.div_ceil(TILE));
     let batches = points.div_ceil(BATCH);
@@ -87,111 +57,6 @@ fn check_work(limit: u64, points: u64, width: u32, height: u32) -> Result<(), Gp
 pub(crate) fn fits(ctx: &GpuContext, width: u32, height: u32) -> bool {
     u64::from(crate::copy_pitch(width)) * u64::from(height)
         <= ctx.limits().max_storage_buffer_binding_size
-}
-
-/// The layouts and the depth writer of the exact path, made once per context.
-pub(crate) struct ExactLayouts {
-    target_layout: wgpu::BindGroupLayout,
-    compute_layout: wgpu::PipelineLayout,
-    depth_layout: wgpu::BindGroupLayout,
-    depth_writer: wgpu::RenderPipeline,
-}
-
-/// The two compute pipelines of one key.
-#[derive(Clone, Debug)]
-pub(crate) struct ExactPipelines {
-    points: wgpu::ComputePipeline,
-    tiles: wgpu::ComputePipeline,
-}
-
-impl ExactLayouts {
-    /// Layouts on `device`; `draw_layout` is group 0 of every point pipeline.
-    pub(crate) fn new(device: &wgpu::Device, draw_layout: &wgpu::BindGroupLayout) -> ExactLayouts {
-        let compute = wgpu::ShaderStages::COMPUTE;
-        let target_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("pointillist exact target"),
-            entries: &[
-                uniform_entry(0, compute),
-                storage_entry(1, compute, false),
-                storage_entry(2, compute, false),
-                storage_entry(3, compute, false),
-            ],
-        });
-        let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("pointillist exact"),
-            bind_group_layouts: &[Some(draw_layout), Some(&target_layout)],
-            immediate_size: 0,
-        });
-        let fragment = wgpu::ShaderStages::FRAGMENT;
-        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("pointillist depth writer"),
-            entries: &[uniform_entry(0, fragment), storage_entry(1, fragment, true)],
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("pointillist depth writer"),
-            source: wgpu::ShaderSource::Wgsl(DEPTH_WRITER.into()),
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("pointillist depth writer"),
-            bind_group_layouts: &[Some(&depth_layout)],
-            immediate_size: 0,
-        });
-        let depth_writer = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("pointillist depth writer"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: crate::DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: wgpu::StencilState::default(),
-                bias: wgpu::DepthBiasState::default(),
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        ExactLayouts {
-            target_layout,
-            compute_layout,
-            depth_layout,
-            depth_writer,
-        }
-    }
-
-    /// The compute pipelines of a generated module.
-    pub(crate) fn create_pipelines(&self, device: &wgpu::Device, source: &str) -> ExactPipelines {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("pointillist exact"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("pointillist exact"),
-                layout: Some(&self.compute_layout),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                cache: None,
-            })
-        };
-        ExactPipelines {
-            points: pipeline("cs_points"),
-            tiles: pipeline("cs_tiles"),
-        }
-    }
 }
 
 /// The exact path's buffers for one target, kept across draws.
@@ -281,7 +146,7 @@ pub(crate) fn draw(
     let stride = fvf.stride();
     let limits = ctx.limits();
     // A batch of the largest records fits the bindings and one dispatch.
-    let record_bytes = 4 * u64::from(shader::MAX_RECORD_WORDS);
+    let record_bytes = 4 * u64::from(MAX_RECORD_WORDS);
     let batch = (renderer.max_points(fvf) as u64)
         .min(limits.max_storage_buffer_binding_size / record_bytes)
         .min(u64::from(limits.max_compute_workgroups_per_dimension) * u64::from(POINTS_PER_GROUP))
@@ -291,7 +156,7 @@ pub(crate) fn draw(
             continue;
         };
         let pipelines = ctx.exact_pipelines(&res.key)?;
-        let words = u64::from(shader::record_words(&res.key));
+        let words = u64::from(record_words(&res.key));
         let layouts = ctx.exact_layouts();
         let writes_depth = res.key.depth.is_some_and(|(_, write)| write);
         ctx.scoped(|| {
@@ -407,6 +272,5 @@ mod tests {
         // Partial tiles count whole.
         assert!(check_work(4, 1, 17, 17).is_ok());
         assert!(check_work(3, 1, 17, 17).is_err());
-        assert_eq!(work_limit(wgpu::DeviceType::Cpu), 1 << 18);
     }
 }

@@ -37,10 +37,18 @@
 //! assert_eq!(target.pixel(57, 64), 0xFFFF_0000); // SPEC 4.1: 57..=71
 //! assert_eq!(target.pixel(56, 64), 0xFF00_0000);
 //! ```
+//!
+//! The modules, each importing only modules listed before it: `key` (what makes a distinct
+//! pipeline), `uniforms` (the per-draw numbers that do not), `shader` (the WGSL generated for a
+//! key; `shader::compute`, the exact path's compute module), `cache` (the shared layouts and the
+//! pipelines of each key), `context` (the wgpu device, its errors, and the cache it compiles
+//! into), `renderer` (uploads and draws into a pass), `exact` (the exact path's draw), then
+//! [`GpuBackend`] here.
 
+mod cache;
 mod context;
 mod exact;
-mod pipeline;
+mod key;
 mod renderer;
 mod shader;
 mod uniforms;
@@ -52,7 +60,7 @@ use pointillist_core::caps::Caps;
 use pointillist_core::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 
 pub use context::{AdapterSummary, ContextOptions, GpuContext, GpuError};
-pub use pipeline::{ClipPlaneMethod, TargetDesc};
+pub use key::{ClipPlaneMethod, TargetDesc};
 pub use renderer::{PointRenderer, PreparedDraw};
 /// The wgpu this crate is built on, for engines that embed it.
 pub use wgpu;

@@ -23,7 +23,7 @@ use pointillist_core::fvf::Fvf;
 use pointillist_core::texture::Texture;
 
 use crate::context::{GpuContext, GpuError};
-use crate::pipeline::{PipelineKey, TargetDesc};
+use crate::key::{PipelineKey, TargetDesc};
 use crate::uniforms::{UNIFORM_SIZE, Uniforms};
 
 /// Points per indexed draw call: the static index buffer holds 6 indices for each.

@@ -44,9 +44,17 @@
 //! system.draw(&mut device, &mut buffers).unwrap();
 //! assert_eq!(buffers.vertices().len(), 200 * pointillist_particles::VERTEX_STRIDE);
 //! ```
+//!
+//! The modules, each importing only modules listed before it: `rng` (the per-particle random
+//! numbers), `curve` (values over a particle's life), `layout` (the block storage and the vertex
+//! layout), `emitter` (what an emitter is, docs/spec/PARTICLES.md), `noise` (the turbulence
+//! field), `vertices` (the vertices a block's particles write), `pool` (one emitter's particles:
+//! their storage, update and births), `system` (the [`ParticleSystem`] and its contract) and
+//! [`presets`].
 
 mod curve;
 mod emitter;
+mod layout;
 mod noise;
 mod pool;
 pub mod presets;
@@ -59,9 +67,9 @@ pub use emitter::{
     BlendMode, Burst, ConfigError, Emitter, MAX_PARTICLES, Range, Range3, RenderSettings, Shape,
     Turbulence,
 };
+pub use layout::{BLOCK, PARALLEL_MIN, VERTEX_FVF, VERTEX_STRIDE};
 pub use noise::{NOISE_PERIOD, NoiseField};
 pub use rng::Rng;
 pub use system::{
-    BLOCK, DrawBuffers, EmitterStats, MAX_TIME_STEP, PARALLEL_MIN, ParticleSystem, SystemConfig,
-    VERTEX_FVF, VERTEX_STRIDE, sort_back_to_front,
+    DrawBuffers, EmitterStats, MAX_TIME_STEP, ParticleSystem, SystemConfig, sort_back_to_front,
 };

@@ -4,17 +4,15 @@
 use rayon::prelude::*;
 
 use crate::emitter::Emitter;
+use crate::layout::{BLOCK, BLOCK_LEN, COLUMNS, PARALLEL_MIN};
 use crate::noise::{Drive, NoiseField};
 use crate::rng::{Rng, mix64};
-use crate::system::{BLOCK, COLUMNS, PARALLEL_MIN};
+use crate::vertices::write_blocks;
 
 /// Particles whose accelerations an update gathers before integrating them.
 const CHUNK: usize = 64;
 /// Particles an update decides together whether to move (see [`Doom`]).
 const GROUP: usize = 8;
-
-/// `f32`s per block.
-pub(crate) const BLOCK_LEN: usize = BLOCK * COLUMNS;
 
 /// The direction the turbulence field drifts along (unit length).
 const DRIFT: [f32; 3] = [0.872_871_6, 0.436_435_8, 0.218_217_9];
@@ -594,7 +592,7 @@ impl Pool {
 
     pub(crate) fn write(&self, out: &mut [u8], parallel: bool) {
         let parallel = parallel && self.live >= PARALLEL_MIN;
-        crate::vertices::write_blocks(&self.data, &self.counts, &self.emitter, out, parallel);
+        write_blocks(&self.data, &self.counts, &self.emitter, out, parallel);
     }
 }
 

@@ -2,12 +2,12 @@
 //! list it draws.
 //!
 //! Contract:
-//! - **Storage.** Each emitter owns blocks of [`BLOCK`] particles; a block stores each
-//!   component (position x, y, z, velocity x, y, z, age, lifetime, size, drag, brightness) as a
-//!   contiguous `f32` array, with its live particles packed at the front in birth order. All
-//!   storage for `max_particles` is allocated by [`ParticleSystem::new`]; [`ParticleSystem::step`]
-//!   never allocates, and [`ParticleSystem::write_vertices`] only grows its output buffer when
-//!   it is too small.
+//! - **Storage.** Each emitter owns blocks of [`BLOCK`](crate::BLOCK) particles; a block stores
+//!   each component (position x, y, z, velocity x, y, z, age, lifetime, size, drag, brightness)
+//!   as a contiguous `f32` array, with its live particles packed at the front in birth order
+//!   ([`crate::layout`]). All storage for `max_particles` is allocated by
+//!   [`ParticleSystem::new`]; [`ParticleSystem::step`] never allocates, and
+//!   [`ParticleSystem::write_vertices`] only grows its output buffer when it is too small.
 //! - **Time.** The simulation advances in fixed steps of `time_step` seconds. Step `n` covers
 //!   `[n h, (n + 1) h)`: first every live particle ages by `h` and dies when its age reaches its
 //!   lifetime, otherwise it moves (semi-implicit Euler: velocity first, then position; drag is
@@ -19,8 +19,9 @@
 //! - **Births.** Continuous emission gives birth to particle `k` at `start + k / rate` while
 //!   `k / rate < duration`; a burst cycle's particles are born at its time. Every birth gets the
 //!   next spawn index of its emitter (continuous births first, then bursts in list order) and
-//!   draws all its randomness from [`Rng::for_particle`]`(seed, emitter, index)`. A birth that
-//!   finds `max_particles` alive is dropped (and counted), its index consumed.
+//!   draws all its randomness from [`Rng::for_particle`](crate::Rng::for_particle)`(seed,
+//!   emitter, index)`. A birth that finds `max_particles` alive is dropped (and counted), its
+//!   index consumed.
 //! - **Determinism.** Each particle's update reads only its own components and the emitter's
 //!   constants, and births and deaths are placed by a sequential, order-preserving rule, so the
 //!   same seed and steps give bit-identical state and vertices whatever the thread count, and
@@ -30,24 +31,12 @@
 //!   `color_over_life(t)` with red, green and blue times the particle's brightness, `t` being
 //!   age / lifetime.
 
-use pointillist_core::fvf::Fvf;
 use pointillist_core::math::Mat4;
-use pointillist_core::{Backend, Device, DeviceError, Vertex, XyzPsizeDiffuse};
+use pointillist_core::{Backend, Device, DeviceError};
 
 use crate::emitter::{ConfigError, Emitter};
+use crate::layout::{COLUMNS, VERTEX_FVF, VERTEX_STRIDE};
 use crate::pool::Pool;
-
-/// Particles per storage block: the unit of parallel work.
-pub const BLOCK: usize = 1024;
-/// Components stored per particle.
-pub(crate) const COLUMNS: usize = 11;
-/// Live particles of an emitter from which its update and vertex output run in parallel.
-pub const PARALLEL_MIN: usize = 4 * BLOCK;
-
-/// The vertex format particles are drawn with: `D3DFVF_XYZ | D3DFVF_PSIZE | D3DFVF_DIFFUSE`.
-pub const VERTEX_FVF: Fvf = XyzPsizeDiffuse::FVF;
-/// Bytes per vertex of [`VERTEX_FVF`].
-pub const VERTEX_STRIDE: usize = 20;
 
 /// Longest fixed time step accepted, in seconds.
 pub const MAX_TIME_STEP: f32 = 1.0;

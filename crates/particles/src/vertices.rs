@@ -4,8 +4,7 @@
 //! scalar arithmetic in each lane, so the bytes do not depend on the CPU.
 
 use crate::emitter::Emitter;
-use crate::pool::BLOCK_LEN;
-use crate::system::{BLOCK, VERTEX_STRIDE};
+use crate::layout::{BLOCK, BLOCK_LEN, VERTEX_STRIDE};
 
 /// Particles whose vertices are computed together.
 const RUN: usize = 64;
@@ -161,8 +160,8 @@ mod tests {
 
     use super::*;
     use crate::Curve;
+    use crate::layout::VERTEX_FVF;
     use crate::rng::Rng;
-    use crate::system::VERTEX_FVF;
 
     #[test]
     fn the_vertex_layout_is_the_seeds() {

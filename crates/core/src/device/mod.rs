@@ -5,6 +5,8 @@
 //! it into pixels. Backends never see an invalid state: viewports lie inside the target, stage
 //! indices are in range, vertex buffers hold whole vertices.
 
+pub(crate) mod lights;
+pub(crate) mod state;
 mod vertex;
 
 use std::fmt;
@@ -14,15 +16,15 @@ use crate::behaviour::{BehaviourSet, Behaviours};
 use crate::caps::Caps;
 use crate::draw::DrawSetup;
 use crate::fvf::{Fvf, FvfError};
-use crate::light::{Light, LightError, Material};
 use crate::math::Mat4;
 use crate::pixel::is_unsupported_op;
-pub use crate::state::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES, Viewport};
 use crate::states::{
     Api, Blend, BlendOp, Cmp, RenderState, SamplerState, TextureAddress, TextureFilter, TextureOp,
     TextureStageState, ZBufferType,
 };
 use crate::texture::Texture;
+use lights::{Light, LightError, Material};
+pub use state::{DeviceState, MAX_CLIP_PLANES, MAX_STAGES, Viewport};
 pub use vertex::{Vertex, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse, XyzRhwPsizeDiffuse};
 
 /// Largest render target side pointillist accepts.

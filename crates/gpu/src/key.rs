@@ -1,17 +1,19 @@
-//! Pipeline keys and the pipeline cache.
+//! Pipeline keys: what makes a distinct pipeline (as DXVK's `D3D9FFShaderKeyVS`/`FS`).
 //!
 //! Contract:
 //! - A [`PipelineKey`] holds everything that changes the generated WGSL or the fixed-function
 //!   state of a render pipeline: the target formats, the vertex format (FVF code, so the PSIZE
 //!   bit is in it), the draw's point-stage switches (pre-transformed, per-vertex size, scaling,
-//!   single-pixel caps, user clip planes and how they are applied), flat or per-pixel shading,
-//!   the resolved texture-stage cascade with each sampling stage's filter and address modes,
-//!   specular, alpha-test function, depth test and write, blend factors and operations, the
-//!   channel write mask, the lighting switches and the fog source. Values that only change numbers (matrices, sizes, colours, ALPHAREF,
-//!   border colours, LOD bias, MAXMIPLEVEL, the blend constant) are uniforms or dynamic state
-//!   and never make a new pipeline.
-//! - Keys are built from core's resolved [`PointSetup`] and [`PixelSetup`]; the D3D enums are
-//!   mapped to wgpu state here and nowhere else.
+//!   single-pixel caps, user clip planes and how they are applied, SPEC 2 and 3), flat or
+//!   per-pixel shading, the resolved texture-stage cascade with each sampling stage's filter and
+//!   address modes (SPEC 5.1, 5.2), specular, alpha-test function, depth test and write, blend
+//!   factors and operations, the channel write mask (SPEC 5.3 to 5.6), the lighting switches
+//!   (SPEC 8) and the fog source (SPEC 9). Values that only change numbers (matrices, sizes,
+//!   colours, ALPHAREF, border colours, LOD bias, MAXMIPLEVEL, the blend constant) are uniforms
+//!   or dynamic state and never make a new pipeline.
+//! - Keys are built from core's resolved `PointSetup` and `PixelSetup` ([`DrawSetup`]); the
+//!   generator ([`crate::shader`]) turns a key into WGSL and the cache ([`crate::cache`]) into
+//!   pipelines, mapping the D3D enums to wgpu state.
 
 use pointillist_core::DrawSetup;
 use pointillist_core::behaviour::ZeroAttenuation;
@@ -260,163 +262,4 @@ fn blend_components(b: &BlendSetup) -> [(Blend, Blend, BlendOp); 2] {
             b.op_alpha,
         ),
     ]
-}
-
-/// D3DCMP to wgpu: both compare the new value (left) with the stored one (right).
-pub(crate) fn compare_function(c: Cmp) -> wgpu::CompareFunction {
-    match c {
-        Cmp::Never => wgpu::CompareFunction::Never,
-        Cmp::Less => wgpu::CompareFunction::Less,
-        Cmp::Equal => wgpu::CompareFunction::Equal,
-        Cmp::LessEqual => wgpu::CompareFunction::LessEqual,
-        Cmp::Greater => wgpu::CompareFunction::Greater,
-        Cmp::NotEqual => wgpu::CompareFunction::NotEqual,
-        Cmp::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
-        Cmp::Always => wgpu::CompareFunction::Always,
-    }
-}
-
-/// D3DBLEND to wgpu. The alpha channel of each wgpu factor is what core's `factor(..)[3]`
-/// takes (SPEC 5.5); BOTH* sources were resolved by `dest_factor` already.
-fn blend_factor(b: Blend) -> wgpu::BlendFactor {
-    use wgpu::BlendFactor as F;
-    match b {
-        Blend::Zero => F::Zero,
-        Blend::One => F::One,
-        Blend::SrcColor | Blend::SrcColor2 => F::Src,
-        Blend::InvSrcColor | Blend::InvSrcColor2 => F::OneMinusSrc,
-        Blend::SrcAlpha | Blend::BothSrcAlpha => F::SrcAlpha,
-        Blend::InvSrcAlpha | Blend::BothInvSrcAlpha => F::OneMinusSrcAlpha,
-        Blend::DestAlpha => F::DstAlpha,
-        Blend::InvDestAlpha => F::OneMinusDstAlpha,
-        Blend::DestColor => F::Dst,
-        Blend::InvDestColor => F::OneMinusDst,
-        Blend::SrcAlphaSat => F::SrcAlphaSaturated,
-        Blend::BlendFactor => F::Constant,
-        Blend::InvBlendFactor => F::OneMinusConstant,
-    }
-}
-
-fn blend_component((src, dst, op): (Blend, Blend, BlendOp)) -> wgpu::BlendComponent {
-    let operation = match op {
-        BlendOp::Add => wgpu::BlendOperation::Add,
-        BlendOp::Subtract => wgpu::BlendOperation::Subtract,
-        BlendOp::RevSubtract => wgpu::BlendOperation::ReverseSubtract,
-        BlendOp::Min => wgpu::BlendOperation::Min,
-        BlendOp::Max => wgpu::BlendOperation::Max,
-    };
-    // MIN and MAX ignore the factors (core `combine`); WebGPU requires them to be ONE.
-    let (src_factor, dst_factor) = if matches!(op, BlendOp::Min | BlendOp::Max) {
-        (wgpu::BlendFactor::One, wgpu::BlendFactor::One)
-    } else {
-        (blend_factor(src), blend_factor(dst))
-    };
-    wgpu::BlendComponent {
-        src_factor,
-        dst_factor,
-        operation,
-    }
-}
-
-/// COLORWRITEENABLE (as core's 0xAARRGGBB mask) to wgpu channel writes (SPEC 5.6).
-fn color_writes(mask: u32) -> wgpu::ColorWrites {
-    let mut w = wgpu::ColorWrites::empty();
-    for (bits, channel) in [
-        (0x00FF_0000, wgpu::ColorWrites::RED),
-        (0x0000_FF00, wgpu::ColorWrites::GREEN),
-        (0x0000_00FF, wgpu::ColorWrites::BLUE),
-        (0xFF00_0000, wgpu::ColorWrites::ALPHA),
-    ] {
-        if mask & bits != 0 {
-            w |= channel;
-        }
-    }
-    w
-}
-
-/// Builds the render pipeline of `key` from its generated WGSL `source`.
-pub(crate) fn create_pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::PipelineLayout,
-    key: &PipelineKey,
-    source: &str,
-) -> wgpu::RenderPipeline {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("pointillist points"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
-    let depth_stencil = key.depth_format.map(|format| {
-        let (compare, write) = match key.depth {
-            Some((func, write)) => (compare_function(func), write),
-            None => (wgpu::CompareFunction::Always, false),
-        };
-        wgpu::DepthStencilState {
-            format,
-            depth_write_enabled: Some(write),
-            depth_compare: Some(compare),
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        }
-    });
-    let blend = key.blend.map(|[color, alpha]| wgpu::BlendState {
-        color: blend_component(color),
-        alpha: blend_component(alpha),
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("pointillist points"),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_main"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::TriangleList,
-            strip_index_format: None,
-            front_face: wgpu::FrontFace::Ccw,
-            cull_mode: None,
-            unclipped_depth: false,
-            polygon_mode: wgpu::PolygonMode::Fill,
-            conservative: false,
-        },
-        depth_stencil,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_main"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: key.color_format,
-                blend,
-                write_mask: color_writes(key.write_mask),
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn spec_5_6_write_mask_maps_channel_by_channel() {
-        assert_eq!(color_writes(0xFFFF_FFFF), wgpu::ColorWrites::ALL);
-        assert_eq!(color_writes(0x00FF_0000), wgpu::ColorWrites::RED);
-        assert_eq!(
-            color_writes(0xFF00_00FF),
-            wgpu::ColorWrites::ALPHA | wgpu::ColorWrites::BLUE
-        );
-        assert_eq!(color_writes(0), wgpu::ColorWrites::empty());
-    }
-
-    #[test]
-    fn spec_5_5_min_max_ignore_factors() {
-        let c = blend_component((Blend::SrcAlpha, Blend::Zero, BlendOp::Max));
-        assert_eq!(c.src_factor, wgpu::BlendFactor::One);
-        assert_eq!(c.dst_factor, wgpu::BlendFactor::One);
-        assert_eq!(c.operation, wgpu::BlendOperation::Max);
-    }
 }

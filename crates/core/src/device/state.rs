@@ -1,12 +1,12 @@
-//! The device state: every state a D3D9 program has set, as the device holds it. Draws are
-//! resolved from it ([`crate::draw::DrawSetup`]); the [`crate::device::Device`] validates what
-//! goes in.
+//! The device state: every state a D3D9 program has set, as the device holds it (SPEC 2.6
+//! defaults, SPEC 8.2 lights). Every rule reads it and draws are resolved from it
+//! ([`crate::draw::DrawSetup`]); the [`Device`](super::Device) validates what goes in.
 
 use std::sync::Arc;
 
+use super::lights::{Lights, Material};
 use crate::behaviour::Behaviours;
 use crate::caps::Caps;
-use crate::light::{Lights, Material};
 use crate::math::Mat4;
 use crate::states::{Api, RenderState, SamplerState, TextureStageState};
 use crate::texture::Texture;
