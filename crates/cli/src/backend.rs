@@ -117,6 +117,7 @@ mod tests {
             device_type: format!("{device_type:?}"),
             driver: String::new(),
             clip_planes: ClipPlaneMethod::FragmentDiscard,
+            no_contraction: true,
         }
     }
 

@@ -139,11 +139,16 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             };
             let a = ctx.adapter();
             crate::report::outln!(
-                "adapter: {} ({}, {}, {}); blending: {}",
+                "adapter: {} ({}, {}, {}); shaders: {}; blending: {}",
                 a.name,
                 a.backend,
                 a.device_type,
                 a.driver,
+                if a.no_contraction {
+                    "SPIR-V without contraction"
+                } else {
+                    "WGSL"
+                },
                 if args.fixed_function_blending {
                     "fixed function"
                 } else {

@@ -61,6 +61,15 @@ fn gpu_report(adapter: &AdapterSummary, max_target: u32, max_binding: u64) -> St
     );
     let _ = writeln!(
         out,
+        "  shaders: {}",
+        if adapter.no_contraction {
+            "SPIR-V whose float arithmetic the driver may not fuse or reorder"
+        } else {
+            "WGSL through wgpu (exact only where the driver does not fuse or reorder floats)"
+        }
+    );
+    let _ = writeln!(
+        out,
         "  sprites are quads built by the vertex shader, so every profile below is honoured \
          exactly:"
     );
@@ -235,8 +244,10 @@ mod tests {
             device_type: "Cpu".into(),
             driver: "Mesa".into(),
             clip_planes: ClipPlaneMethod::FragmentDiscard,
+            no_contraction: true,
         };
         let text = gpu_report(&adapter, 16384, 128 << 20);
+        assert!(text.contains("  shaders: SPIR-V whose float"), "{text}");
         assert!(
             text.starts_with("GPU backend adapter: llvmpipe\n"),
             "{text}"

@@ -19,6 +19,7 @@ use pointillist_core::MAX_STAGES;
 use pointillist_core::states::{Blend, BlendOp, Cmp};
 
 use crate::key::PipelineKey;
+use crate::module;
 use crate::shader;
 use crate::shader::compute::generate_compute;
 
@@ -243,10 +244,7 @@ impl ExactLayouts {
             label: Some("pointillist depth writer"),
             entries: &[uniform_entry(0, fragment), storage_entry(1, fragment, true)],
         });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("pointillist depth writer"),
-            source: wgpu::ShaderSource::Wgsl(DEPTH_WRITER.into()),
-        });
+        let module = module::create(device, "pointillist depth writer", DEPTH_WRITER);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("pointillist depth writer"),
             bind_group_layouts: &[Some(&depth_layout)],
@@ -289,10 +287,7 @@ impl ExactLayouts {
 
     /// The compute pipelines of a generated module.
     pub(crate) fn create_pipelines(&self, device: &wgpu::Device, source: &str) -> ExactPipelines {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("pointillist exact"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
+        let module = module::create(device, "pointillist exact", source);
         let pipeline = |entry: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("pointillist exact"),
@@ -389,10 +384,7 @@ pub(crate) fn create_pipeline(
     key: &PipelineKey,
     source: &str,
 ) -> wgpu::RenderPipeline {
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("pointillist points"),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    });
+    let module = module::create(device, "pointillist points", source);
     let depth_stencil = key.depth_format.map(|format| {
         let (compare, write) = match key.depth {
             Some((func, write)) => (compare_function(func), write),

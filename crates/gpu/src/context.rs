@@ -72,6 +72,10 @@ pub struct AdapterSummary {
     pub driver: String,
     /// How user clip planes that cut a sprite are applied per pixel.
     pub clip_planes: ClipPlaneMethod,
+    /// True when the shaders reach the driver as SPIR-V whose float arithmetic it may not
+    /// contract or reorder (`Features::PASSTHROUGH_SHADERS`); false when they go as WGSL
+    /// through wgpu, and the driver may (SPEC 7's exact results then rest on it not doing so).
+    pub no_contraction: bool,
 }
 
 /// Options of a context.
@@ -201,7 +205,9 @@ impl GpuContext {
                 info.name, info.backend
             )));
         }
-        let wanted = wgpu::Features::CLIP_DISTANCES;
+        // SPIR-V as it is, where the device takes it: the modules' float arithmetic is then
+        // kept from contraction (`module`).
+        let wanted = wgpu::Features::CLIP_DISTANCES | wgpu::Features::PASSTHROUGH_SHADERS;
         let features = adapter.features() & wanted;
         let (device, queue) = block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("pointillist"),
@@ -271,6 +277,9 @@ impl GpuContext {
                 .trim()
                 .to_string(),
             clip_planes,
+            no_contraction: device
+                .features()
+                .contains(wgpu::Features::PASSTHROUGH_SHADERS),
         };
         let pipelines = Pipelines::new(&device);
         let dummy = device.create_texture(&wgpu::TextureDescriptor {

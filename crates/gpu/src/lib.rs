@@ -40,8 +40,9 @@
 //!
 //! The modules, each importing only modules listed before it: `key` (what makes a distinct
 //! pipeline), `uniforms` (the per-draw numbers that do not), `shader` (the WGSL generated for a
-//! key; `shader::compute`, the exact path's compute module), `cache` (the shared layouts and the
-//! pipelines of each key), `context` (the wgpu device, its errors, and the cache it compiles
+//! key; `shader::compute`, the exact path's compute module), `module` (WGSL to a shader module,
+//! its float arithmetic kept from contraction where the device takes SPIR-V), `cache` (the
+//! shared layouts and the pipelines of each key), `context` (the wgpu device, its errors, and the cache it compiles
 //! into), `renderer` (uploads and draws into a pass), `exact` (the exact path's draw), then
 //! [`GpuBackend`] here.
 
@@ -49,6 +50,7 @@ mod cache;
 mod context;
 mod exact;
 mod key;
+mod module;
 mod renderer;
 mod shader;
 mod uniforms;
