@@ -112,8 +112,15 @@ impl Backend for CpuBackend {
 
     fn draw_points(&mut self, draw: &DrawSetup<'_>, vertices: &[u8]) -> Result<(), DeviceError> {
         let clear = self.pending_clear.take();
-        let out = (&mut self.target, &mut self.bins, clear);
-        raster::draw(out, draw, vertices, self.sprite_texel_nudge);
+        let nudge = self.sprite_texel_nudge;
+        raster::draw(
+            &mut self.target,
+            &mut self.bins,
+            clear,
+            draw,
+            vertices,
+            nudge,
+        );
         Ok(())
     }
 

@@ -156,7 +156,9 @@ struct DrawTarget<'t> {
 ///
 /// [`CpuBackend::with_sprite_texel_nudge`]: crate::CpuBackend::with_sprite_texel_nudge
 pub(crate) fn draw(
-    (target, bins, clear): (&mut RenderTarget, &mut Bins, Option<Clear>),
+    target: &mut RenderTarget,
+    bins: &mut Bins,
+    clear: Option<Clear>,
     draw: &DrawSetup<'_>,
     vertices: &[u8],
     nudge: [f32; 2],
