@@ -117,11 +117,14 @@ pub(crate) struct Pipelines {
     pub(crate) render: Cache<wgpu::RenderPipeline>,
     /// The exact path's compute pipelines (records, tiles) per key.
     pub(crate) compute: Cache<ExactPipelines>,
+    /// Whether modules reach the driver as SPIR-V without contraction ([`module::create`]).
+    spirv: bool,
 }
 
 impl Pipelines {
-    /// The layouts on `device`, and no pipeline yet.
-    pub(crate) fn new(device: &wgpu::Device) -> Pipelines {
+    /// The layouts on `device`, and no pipeline yet; `spirv`: modules reach the driver as
+    /// SPIR-V without contraction ([`module::create`]).
+    pub(crate) fn new(device: &wgpu::Device, spirv: bool) -> Pipelines {
         let stages =
             wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let mut entries = vec![
@@ -153,13 +156,14 @@ impl Pipelines {
             bind_group_layouts: &[Some(&bind_group_layout)],
             immediate_size: 0,
         });
-        let exact = ExactLayouts::new(device, &bind_group_layout);
+        let exact = ExactLayouts::new(device, &bind_group_layout, spirv);
         Pipelines {
             bind_group_layout,
             pipeline_layout,
             exact,
             render: Cache::new(),
             compute: Cache::new(),
+            spirv,
         }
     }
 
@@ -169,7 +173,13 @@ impl Pipelines {
         device: &wgpu::Device,
         key: &PipelineKey,
     ) -> wgpu::RenderPipeline {
-        create_pipeline(device, &self.pipeline_layout, key, &shader::generate(key))
+        let module = module::create(
+            device,
+            self.spirv,
+            "pointillist points",
+            &shader::generate(key),
+        );
+        create_pipeline(device, &self.pipeline_layout, key, &module)
     }
 
     /// Compiles the exact path's compute pipelines of `key`.
@@ -210,6 +220,8 @@ pub(crate) struct ExactLayouts {
     pub(crate) depth_layout: wgpu::BindGroupLayout,
     /// Writes the depth buffer of the exact path into the depth texture.
     pub(crate) depth_writer: wgpu::RenderPipeline,
+    /// As [`Pipelines`]' `spirv`.
+    spirv: bool,
 }
 
 /// The two compute pipelines of one key.
@@ -222,8 +234,13 @@ pub(crate) struct ExactPipelines {
 }
 
 impl ExactLayouts {
-    /// Layouts on `device`; `draw_layout` is group 0 of every point pipeline.
-    pub(crate) fn new(device: &wgpu::Device, draw_layout: &wgpu::BindGroupLayout) -> ExactLayouts {
+    /// Layouts on `device`; `draw_layout` is group 0 of every point pipeline; `spirv` as
+    /// [`Pipelines::new`]'s.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        draw_layout: &wgpu::BindGroupLayout,
+        spirv: bool,
+    ) -> ExactLayouts {
         let compute = wgpu::ShaderStages::COMPUTE;
         let target_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("pointillist exact target"),
@@ -244,7 +261,7 @@ impl ExactLayouts {
             label: Some("pointillist depth writer"),
             entries: &[uniform_entry(0, fragment), storage_entry(1, fragment, true)],
         });
-        let module = module::create(device, "pointillist depth writer", DEPTH_WRITER);
+        let module = module::create(device, spirv, "pointillist depth writer", DEPTH_WRITER);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("pointillist depth writer"),
             bind_group_layouts: &[Some(&depth_layout)],
@@ -282,12 +299,13 @@ impl ExactLayouts {
             compute_layout,
             depth_layout,
             depth_writer,
+            spirv,
         }
     }
 
     /// The compute pipelines of a generated module.
     pub(crate) fn create_pipelines(&self, device: &wgpu::Device, source: &str) -> ExactPipelines {
-        let module = module::create(device, "pointillist exact", source);
+        let module = module::create(device, self.spirv, "pointillist exact", source);
         let pipeline = |entry: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("pointillist exact"),
@@ -377,14 +395,14 @@ fn color_writes(mask: u32) -> wgpu::ColorWrites {
     w
 }
 
-/// Builds the render pipeline of `key` from its generated WGSL `source`.
+/// Builds the render pipeline of `key` from its compiled `module` (entry points `vs_main`,
+/// `fs_main`).
 pub(crate) fn create_pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     key: &PipelineKey,
-    source: &str,
+    module: &wgpu::ShaderModule,
 ) -> wgpu::RenderPipeline {
-    let module = module::create(device, "pointillist points", source);
     let depth_stencil = key.depth_format.map(|format| {
         let (compare, write) = match key.depth {
             Some((func, write)) => (compare_function(func), write),
@@ -406,7 +424,7 @@ pub(crate) fn create_pipeline(
         label: Some("pointillist points"),
         layout: Some(layout),
         vertex: wgpu::VertexState {
-            module: &module,
+            module,
             entry_point: Some("vs_main"),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             buffers: &[],
@@ -423,7 +441,7 @@ pub(crate) fn create_pipeline(
         depth_stencil,
         multisample: wgpu::MultisampleState::default(),
         fragment: Some(wgpu::FragmentState {
-            module: &module,
+            module,
             entry_point: Some("fs_main"),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             targets: &[Some(wgpu::ColorTargetState {

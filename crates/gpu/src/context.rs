@@ -17,6 +17,7 @@ use pointillist_core::DeviceError;
 
 use crate::cache::{ExactLayouts, ExactPipelines, Pipelines};
 use crate::key::{ClipPlaneMethod, PipelineKey};
+use crate::module;
 
 /// Why the GPU backend could not do something.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -205,9 +206,12 @@ impl GpuContext {
                 info.name, info.backend
             )));
         }
-        // SPIR-V as it is, where the device takes it: the modules' float arithmetic is then
-        // kept from contraction (`module`).
-        let wanted = wgpu::Features::CLIP_DISTANCES | wgpu::Features::PASSTHROUGH_SHADERS;
+        // SPIR-V as it is, where a Vulkan device takes it: the modules' float arithmetic is
+        // then kept from contraction (`module`).
+        let mut wanted = wgpu::Features::CLIP_DISTANCES;
+        if info.backend == wgpu::Backend::Vulkan {
+            wanted |= wgpu::Features::PASSTHROUGH_SHADERS;
+        }
         let features = adapter.features() & wanted;
         let (device, queue) = block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("pointillist"),
@@ -277,11 +281,9 @@ impl GpuContext {
                 .trim()
                 .to_string(),
             clip_planes,
-            no_contraction: device
-                .features()
-                .contains(wgpu::Features::PASSTHROUGH_SHADERS),
+            no_contraction: module::takes_spirv(info.backend, device.features()),
         };
-        let pipelines = Pipelines::new(&device);
+        let pipelines = Pipelines::new(&device, summary.no_contraction);
         let dummy = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("pointillist no texture"),
             size: wgpu::Extent3d {

@@ -34,16 +34,24 @@ const ANNOTATIONS: [u32; 8] = [71, 72, 73, 74, 75, 332, 5632, 5633];
 /// OpFunction: the annotation section lies before the first.
 const OP_FUNCTION: u32 = 54;
 
-/// The module of `wgsl`, compiled without contraction where `device` takes SPIR-V (see the
+/// Whether a device on `backend` with `features` takes the modules as SPIR-V without
+/// contraction: a Vulkan device with `Features::PASSTHROUGH_SHADERS` (on Metal and D3D12 the
+/// feature passes MSL and DXIL through instead).
+pub(crate) fn takes_spirv(backend: wgpu::Backend, features: wgpu::Features) -> bool {
+    backend == wgpu::Backend::Vulkan && features.contains(wgpu::Features::PASSTHROUGH_SHADERS)
+}
+
+/// The module of `wgsl`: with `spirv` ([`takes_spirv`]), compiled without contraction (see the
 /// module's doc), else by wgpu. A module naga cannot compile goes to wgpu as it is, which
 /// reports the error as for any other module.
 #[allow(unsafe_code)] // The SPIR-V passthrough.
-pub(crate) fn create(device: &wgpu::Device, label: &str, wgsl: &str) -> wgpu::ShaderModule {
-    if device
-        .features()
-        .contains(wgpu::Features::PASSTHROUGH_SHADERS)
-        && let Some((words, entry_points)) = no_contraction_spirv(wgsl)
-    {
+pub(crate) fn create(
+    device: &wgpu::Device,
+    spirv: bool,
+    label: &str,
+    wgsl: &str,
+) -> wgpu::ShaderModule {
+    if spirv && let Some((words, entry_points)) = no_contraction_spirv(wgsl) {
         let entry_points: Vec<_> = entry_points
             .into_iter()
             .map(|name| wgpu::PassthroughShaderEntryPoint {
@@ -189,6 +197,17 @@ mod tests {
             .collect();
         let (original, _) = translate(wgsl).unwrap();
         assert_eq!(plain, instructions(&original));
+    }
+
+    /// Only a Vulkan device takes SPIR-V through the passthrough: on Metal and D3D12 the same
+    /// feature means MSL and DXIL.
+    #[test]
+    fn only_vulkan_takes_spirv() {
+        let pass = wgpu::Features::PASSTHROUGH_SHADERS;
+        assert!(takes_spirv(wgpu::Backend::Vulkan, pass));
+        assert!(!takes_spirv(wgpu::Backend::Vulkan, wgpu::Features::empty()));
+        assert!(!takes_spirv(wgpu::Backend::Metal, pass));
+        assert!(!takes_spirv(wgpu::Backend::Dx12, pass));
     }
 
     #[test]
