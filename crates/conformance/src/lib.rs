@@ -167,9 +167,8 @@ pub fn render(scene: &Scene, caps: Caps, behaviours: Behaviours) -> Result<Image
     Ok(image_of(&target))
 }
 
-/// [`render`], and with `texel_edges` (the case's sprites sample by points, SPEC 7) the same
-/// draws under each of `SPRITE_TEXEL_NUDGES`, the images a device may draw within its
-/// sub-texel precision.
+/// [`render`], and with `texel_edges` (the case's sprites sample by points, SPEC 7) its
+/// [`nudged`] images.
 fn drawn(
     scene: &Scene,
     caps: Caps,
@@ -178,12 +177,18 @@ fn drawn(
 ) -> Result<Drawn, String> {
     let mut out = Drawn::from(render(scene, caps, behaviours)?);
     if texel_edges {
-        for nudge in SPRITE_TEXEL_NUDGES {
-            let (target, _) = render_target(scene, caps, behaviours, nudge)?;
-            out.nudged.push(image_of(&target));
-        }
+        out.nudged = nudged(scene, caps, behaviours)?;
     }
     Ok(out)
+}
+
+/// The case's draws under each of `SPRITE_TEXEL_NUDGES`: the images a device may draw within
+/// its sub-texel precision (SPEC 7).
+fn nudged(scene: &Scene, caps: Caps, behaviours: Behaviours) -> Result<Vec<Image>, String> {
+    SPRITE_TEXEL_NUDGES
+        .iter()
+        .map(|&nudge| render_target(scene, caps, behaviours, nudge).map(|(t, _)| image_of(&t)))
+        .collect()
 }
 
 fn image_of(target: &RenderTarget) -> Image {
@@ -440,8 +445,8 @@ fn judge(
     let mut cmp = compare::compare(&ours, &theirs, tolerance);
     if cmp.first.is_some() && texel_edges {
         // A device may take a neighbouring texel within 2^-6 of its edge (SPEC 7).
-        match drawn(&scene, caps, behaviours, true) {
-            Ok(nudged) => ours.nudged = nudged.nudged,
+        match nudged(&scene, caps, behaviours) {
+            Ok(images) => ours.nudged = images,
             Err(e) => {
                 r.message = format!("pointillist: {e}");
                 return r;
