@@ -9,26 +9,30 @@
 //! level the machine has: it drops the same points and gives the same squares, bit for bit.
 
 use pointillist_core::fvf::{read_f32, read_u32};
-use pointillist_core::point::{PixelRect, PointSetup, ScreenPoint, screen_distance, written_depth};
+use pointillist_core::point::{
+    PixelPlane, PixelRect, PointSetup, ScreenPoint, screen_distance, written_depth,
+};
 use pointillist_core::states::Cmp;
 
 use crate::lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
 
-/// What the compact fills read of a point: its covered rectangle (never empty), depth, size,
-/// near edges and diffuse colour (SPEC 4.1 to 4.3).
+/// What the fills read of a point: its covered rectangle (never empty), depth, size, near
+/// edges, diffuse colour (SPEC 4.1 to 4.3) and the user clip planes that cut it per pixel
+/// (SPEC 3.3; none for the points [`VertexProcessing`] takes).
 #[derive(Copy, Clone, Debug, PartialEq)]
-pub(crate) struct Square {
+pub(crate) struct Square<'p> {
     pub rect: PixelRect,
     pub z: f32,
     pub size: f32,
     pub left: f32,
     pub top: f32,
     pub diffuse: u32,
+    pub planes: &'p [PixelPlane],
 }
 
-impl From<&ScreenPoint> for Square {
+impl<'p> From<&'p ScreenPoint> for Square<'p> {
     #[inline]
-    fn from(p: &ScreenPoint) -> Square {
+    fn from(p: &'p ScreenPoint) -> Square<'p> {
         Square {
             rect: p.rect,
             z: p.z,
@@ -36,7 +40,16 @@ impl From<&ScreenPoint> for Square {
             left: p.left,
             top: p.top,
             diffuse: p.diffuse,
+            planes: p.pixel_planes(),
         }
+    }
+}
+
+impl Square<'_> {
+    /// Whether the clip planes keep pixel `(i, j)` (SPEC 3.3).
+    #[inline(always)]
+    pub(crate) fn keeps(&self, i: i32, j: i32) -> bool {
+        self.planes.is_empty() || self.planes.iter().all(|pl| pl.keeps(i, j))
     }
 }
 
@@ -79,9 +92,13 @@ impl SquareStage {
         }
         // One call site of `f`, so that it inlines; the match is the same for every vertex.
         for index in range {
+            let processed;
             let square = match &self.fast {
                 Some(fast) => fast.square(BASELINE, points, vertices, index),
-                None => points.process(vertices, index).map(|p| Square::from(&p)),
+                None => {
+                    processed = points.process(vertices, index);
+                    processed.as_ref().map(Square::from)
+                }
             };
             if let Some(s) = square {
                 f(index, &s);
@@ -190,7 +207,7 @@ impl VertexProcessing {
         points: &PointSetup,
         vertices: &[u8],
         index: u32,
-    ) -> Option<Square> {
+    ) -> Option<Square<'static>> {
         let base = index as usize * self.stride;
         let v = &vertices[base..base + self.stride];
         // Sixteen bytes read at once where the vertex has them; XYZ's fourth float is another
@@ -258,6 +275,7 @@ impl VertexProcessing {
             diffuse: self
                 .diffuse
                 .map_or(pointillist_core::color::WHITE, |o| read_u32(v, o)),
+            planes: &[],
         })
     }
 
@@ -519,6 +537,7 @@ impl VertexProcessing {
                         left: floats[1][i],
                         top: floats[2][i],
                         diffuse: diffuse[i],
+                        planes: &[],
                     };
                     f(index + i as u32, &square);
                 }
@@ -736,7 +755,7 @@ mod tests {
                 })
             };
             let reference: Vec<_> = (0..count)
-                .map(|index| bits(points.process(&vertices, index).map(|p| Square::from(&p))))
+                .map(|index| bits(points.process(&vertices, index).as_ref().map(Square::from)))
                 .collect();
             for index in 0..count {
                 let ours = bits(fast.square(BASELINE, &points, &vertices, index));

@@ -10,38 +10,20 @@
 //! after another.
 
 use pointillist_core::device::RenderTarget;
-use pointillist_core::point::PixelRect;
 use rayon::prelude::*;
 
-use super::binning::{Binned, Chunk, bin, trim_bins};
+use super::binning::{Binned, Bins, Chunk, bin, trim_bins};
 use super::blending::Blender;
+use super::context::DrawContext;
 use super::fills::Scratch;
-use super::{Clear, DrawContext, DrawTarget};
+use super::target::{BAND_ROWS, Band, Clear};
 
-/// Target rows per band: small enough to spread work over threads, large enough that small
-/// sprites rarely straddle two bands.
-pub(super) const BAND_ROWS: usize = 32;
-
-/// The rows `y0..y1` of the target, owned by one task.
-pub(super) struct Band<'t> {
-    pub(super) color: &'t mut [u32],
-    pub(super) depth: &'t mut [f32],
-    pub(super) width: usize,
-    pub(super) y0: i32,
-    pub(super) y1: i32,
-}
-
-/// Writes `clear` to the whole target, on every thread (a 1920x1080 target is 16 MB).
-pub(crate) fn clear(target: &mut RenderTarget, (color, depth): Clear) {
-    const CHUNK: usize = 1 << 16;
-    target
-        .color
-        .par_chunks_mut(CHUNK)
-        .for_each(|c| c.fill(color));
-    target
-        .depth
-        .par_chunks_mut(CHUNK)
-        .for_each(|d| d.fill(depth));
+/// What a draw writes: the target, the clear the backend deferred (written just before the
+/// points), and the bins kept from draw to draw.
+pub(super) struct DrawTarget<'t> {
+    pub(super) target: &'t mut RenderTarget,
+    pub(super) bins: &'t mut Bins,
+    pub(super) clear: Option<Clear>,
 }
 
 /// The parallel plan of the module contract with bins of `P`, in passes whose bins stay within
@@ -120,12 +102,6 @@ pub(super) fn draw_binned<B: Blender, P: Binned>(ctx: &DrawContext, b: &B, out: 
     trim_bins(chunks);
 }
 
-/// The rows of `r` inside `band`.
-#[inline]
-pub(super) fn rows(r: PixelRect, band: &Band) -> std::ops::Range<i32> {
-    r.y0.max(band.y0)..r.y1.min(band.y1)
-}
-
 #[cfg(test)]
 mod tests {
     use std::sync::Arc;
@@ -136,7 +112,7 @@ mod tests {
     use pointillist_core::states::{Blend, RenderState, SamplerState, TextureFilter};
     use pointillist_core::texture::Texture;
 
-    use super::super::{Bins, context, draw_context};
+    use super::super::draw_context;
     use super::*;
     use crate::test_rng::Rng;
 
@@ -220,7 +196,7 @@ mod tests {
             let state = device.state();
             let drawn = |threads: usize, binned: bool, scratch: usize| {
                 let mut target = RenderTarget::new(w, h, 0xFF10_2030, 1.0);
-                let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
+                let mut ctx = DrawContext::new(&DrawSetup::new(state, fvf), &vertices, [0.0; 2]);
                 ctx.binned = binned;
                 ctx.scratch = scratch;
                 let pool = rayon::ThreadPoolBuilder::new()

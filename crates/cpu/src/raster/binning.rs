@@ -9,11 +9,13 @@
 use pointillist_core::pixel::alpha_test_passes;
 use pointillist_core::point::PixelRect;
 
-use super::DrawContext;
-use super::bands::{BAND_ROWS, Band};
 use super::blending::Blender;
-use super::fills::{Scratch, SpriteView, fill, fill_modulate, fill_solid, fill_sprites};
+use super::context::DrawContext;
+use super::fills::{SPAN_MIN_COLUMNS, Scratch, fill, fill_modulate, fill_per_pixel, fill_solid};
 use super::shading::Shading;
+use super::span;
+use super::target::{BAND_ROWS, Band};
+use super::texels::LevelTexels;
 use crate::stage::Square;
 
 /// What a bin keeps of a point: enough to fill it without running the per-point stage again.
@@ -229,8 +231,8 @@ impl Binned for Sprite {
 
 impl Sprite {
     #[inline(always)]
-    pub(super) fn view(&self) -> SpriteView<'static> {
-        SpriteView {
+    fn view(&self) -> Square<'static> {
+        Square {
             rect: self.rect.get(),
             z: self.z,
             diffuse: self.diffuse,
@@ -239,6 +241,73 @@ impl Sprite {
             size: self.size,
             planes: &[],
         }
+    }
+}
+
+/// Fills a band's binned sprites one after another, as [`fill_modulate`] does: with one
+/// sampler for every size (no level of detail) whose level has its planar form, the sampler,
+/// its filter, its texels and the form are resolved once for the band instead of once a
+/// sprite.
+#[inline]
+fn fill_sprites<B: Blender>(
+    points: &[Sprite],
+    ctx: &DrawContext,
+    b: &B,
+    band: &mut Band,
+    s: &mut Scratch,
+) {
+    let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) else {
+        return;
+    };
+    // The level's planar form is built up front for a fixed level of at most 64K texels
+    // ([`StageTexture::unpack`]); the others are resolved sprite by sprite.
+    let wide = t
+        .fixed
+        .as_ref()
+        .and_then(|f| Some((f, ctx.spans?, t.built(f)?)));
+    let Some((f, lanes, planar)) = wide else {
+        for p in points {
+            fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
+        }
+        return;
+    };
+    let (packed, unpacked) = (&f.level().texels[..], &t.unpacked[..]);
+    let linear = f.is_linear();
+    // The match once for the band, each arm its own loop.
+    macro_rules! each {
+        ($linear:literal, $texels:expr) => {
+            for p in points {
+                let view = p.view();
+                if view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
+                    && span::fill(
+                        lanes,
+                        linear,
+                        span::SpanDraw { ctx, b },
+                        &view,
+                        band,
+                        &mut s.span,
+                        span::SpanTexture {
+                            planes: planar,
+                            alpha,
+                        },
+                    )
+                {
+                    continue;
+                }
+                let level = LevelTexels {
+                    stage: t,
+                    sampler: f,
+                    texels: $texels,
+                };
+                fill_per_pixel::<B, $linear, _>(ctx, b, &view, band, alpha, level);
+            }
+        };
+    }
+    match (linear, unpacked.is_empty()) {
+        (true, false) => each!(true, unpacked),
+        (false, false) => each!(false, unpacked),
+        (true, true) => each!(true, packed),
+        (false, true) => each!(false, packed),
     }
 }
 

@@ -10,8 +10,8 @@ use pointillist_core::pixel::{BlendSetup, PixelSetup, blend, compare, write_mask
 use pointillist_core::point::PixelRect;
 use pointillist_core::states::Cmp;
 
-use super::DrawContext;
-use super::bands::{Band, rows};
+use super::context::DrawContext;
+use super::target::{Band, rows};
 use crate::lanes::{BASELINE, LANE_INDEX, Lanes, MAX_LANES, source_alpha_pixel};
 
 /// How a source colour combines with the target.

@@ -12,19 +12,22 @@
 //! [`blend`]: pointillist_core::pixel::blend
 
 use pointillist_core::color::{Rgba, pack};
+use pointillist_core::device::MAX_STAGES;
 use pointillist_core::pixel::alpha_test_passes;
-use pointillist_core::point::{PixelPlane, PixelRect, ScreenPoint, sprite_coord};
+use pointillist_core::point::{PixelRect, ScreenPoint, sprite_coord};
+use pointillist_core::texture::LodSampler;
 
-use super::bands::{Band, rows};
-use super::binning::Sprite;
 use super::blending::{Blender, depth_run, write_pixel};
+use super::context::DrawContext;
 use super::shading::{Modulate, ModulateAlpha, Shading, inputs};
-use super::texels::{Column, LevelTexels, StageTexture, Texel, TexelRow, sprite_samplers};
-use super::{DrawContext, span};
+use super::span;
+use super::target::{Band, rows};
+use super::texels::{Column, LevelTexels, StageTexture, Texel, TexelRow};
+use crate::stage::Square;
 
 /// Sprites this many columns wide or more fill through the wide spans ([`span`]); narrower
 /// ones pixel by pixel ([`fill_narrow`]; measured: 2 and 3 columns are faster there).
-const SPAN_MIN_COLUMNS: i32 = 4;
+pub(super) const SPAN_MIN_COLUMNS: i32 = 4;
 
 /// Per-point working memory, reused from point to point so no point allocates.
 #[derive(Default)]
@@ -32,7 +35,7 @@ pub(super) struct Scratch {
     /// Sprite u per covered column (SPEC 4.3).
     u: Vec<f32>,
     /// The wide spans' columns and rows.
-    span: span::SpanScratch,
+    pub(super) span: span::SpanScratch,
 }
 
 pub(super) fn fill<B: Blender>(
@@ -55,7 +58,7 @@ pub(super) fn fill<B: Blender>(
         };
         match ctx.shading {
             Shading::Modulate(alpha) => match &ctx.textures[0] {
-                Some(t) => fill_modulate(ctx, b, &SpriteView::of(p), t, band, s, alpha),
+                Some(t) => fill_modulate(ctx, b, &Square::from(p), t, band, s, alpha),
                 None => fill_sprite(ctx, b, p, band, &mut s.u),
             },
             _ => fill_sprite(ctx, b, p, band, &mut s.u),
@@ -166,104 +169,16 @@ fn fill_sprite<B: Blender>(
     }
 }
 
-/// What the fills of a textured sprite read of a point (SPEC 4.3): the covered rectangle,
-/// depth, diffuse colour, near edges, side and per-pixel clip planes.
-#[derive(Copy, Clone)]
-pub(super) struct SpriteView<'p> {
-    pub(super) rect: PixelRect,
-    pub(super) z: f32,
-    pub(super) diffuse: u32,
-    pub(super) left: f32,
-    pub(super) top: f32,
-    pub(super) size: f32,
-    pub(super) planes: &'p [PixelPlane],
-}
-
-impl<'p> SpriteView<'p> {
-    pub(super) fn of(p: &'p ScreenPoint) -> SpriteView<'p> {
-        SpriteView {
-            rect: p.rect,
-            z: p.z,
-            diffuse: p.diffuse,
-            left: p.left,
-            top: p.top,
-            size: p.size,
-            planes: p.pixel_planes(),
-        }
-    }
-
-    /// Whether the clip planes keep pixel `(i, j)` (SPEC 3.3).
-    #[inline(always)]
-    pub(super) fn keeps(&self, i: i32, j: i32) -> bool {
-        self.planes.is_empty() || self.planes.iter().all(|pl| pl.keeps(i, j))
-    }
-}
-
-/// Fills a band's binned sprites one after another, as [`fill_modulate`] does: with one
-/// sampler for every size (no level of detail) whose level has its planar form, the sampler,
-/// its filter, its texels and the form are resolved once for the band instead of once a
-/// sprite.
-#[inline]
-pub(super) fn fill_sprites<B: Blender>(
-    points: &[Sprite],
-    ctx: &DrawContext,
-    b: &B,
-    band: &mut Band,
-    s: &mut Scratch,
-) {
-    let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) else {
-        return;
-    };
-    // The level's planar form is built up front for a fixed level of at most 64K texels
-    // ([`StageTexture::unpack`]); the others are resolved sprite by sprite.
-    let wide = t
-        .fixed
-        .as_ref()
-        .and_then(|f| Some((f, ctx.spans?, t.built(f)?)));
-    let Some((f, lanes, planar)) = wide else {
-        for p in points {
-            fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
-        }
-        return;
-    };
-    let (packed, unpacked) = (&f.level().texels[..], &t.unpacked[..]);
-    let linear = f.is_linear();
-    // The match once for the band, each arm its own loop.
-    macro_rules! each {
-        ($linear:literal, $texels:expr) => {
-            for p in points {
-                let view = p.view();
-                if view.rect.x1 - view.rect.x0 >= SPAN_MIN_COLUMNS
-                    && span::fill(
-                        lanes,
-                        linear,
-                        span::SpanDraw { ctx, b },
-                        &view,
-                        band,
-                        &mut s.span,
-                        span::SpanTexture {
-                            planes: planar,
-                            alpha,
-                        },
-                    )
-                {
-                    continue;
-                }
-                let level = LevelTexels {
-                    stage: t,
-                    sampler: f,
-                    texels: $texels,
-                };
-                fill_per_pixel::<B, $linear, _>(ctx, b, &view, band, alpha, level);
-            }
-        };
-    }
-    match (linear, unpacked.is_empty()) {
-        (true, false) => each!(true, unpacked),
-        (false, false) => each!(false, unpacked),
-        (true, true) => each!(true, packed),
-        (false, true) => each!(false, packed),
-    }
+/// The per-point part of a textured sprite: u per column, one sampler per stage at the sprite's
+/// level of detail (SPEC 4.3, 5.2).
+pub(super) fn sprite_samplers<'a>(
+    ctx: &'a DrawContext,
+    p: &ScreenPoint,
+    u: &mut Vec<f32>,
+) -> [Option<LodSampler<'a>>; MAX_STAGES] {
+    u.clear();
+    u.extend((p.rect.x0..p.rect.x1).map(|i| sprite_coord(i, p.left, p.size)));
+    std::array::from_fn(|k| ctx.textures[k].as_ref().map(|t| t.sprite_sampler(p.size)))
 }
 
 /// A textured sprite with [`Shading::Modulate`] and stage 0's texture `t`: the cascade's
@@ -272,7 +187,7 @@ pub(super) fn fill_sprites<B: Blender>(
 pub(super) fn fill_modulate<B: Blender>(
     ctx: &DrawContext,
     b: &B,
-    p: &SpriteView,
+    p: &Square,
     t: &StageTexture,
     band: &mut Band,
     s: &mut Scratch,
@@ -299,7 +214,7 @@ pub(super) fn fill_modulate<B: Blender>(
 fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     s: &mut Scratch,
     alpha: ModulateAlpha,
@@ -333,10 +248,10 @@ fn fill_modulate_at<B: Blender, const LINEAR: bool, T: Texel>(
 /// [`fill_modulate`] pixel by pixel: [`fill_narrow`] under four columns, else
 /// [`fill_pixels`].
 #[inline(always)]
-fn fill_per_pixel<B: Blender, const LINEAR: bool, T: Texel>(
+pub(super) fn fill_per_pixel<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     alpha: ModulateAlpha,
     level: LevelTexels<T>,
@@ -354,13 +269,13 @@ fn fill_per_pixel<B: Blender, const LINEAR: bool, T: Texel>(
 fn fill_pixels<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     alpha: ModulateAlpha,
     level: LevelTexels<T>,
 ) {
     for x0 in (p.rect.x0..p.rect.x1).step_by(3) {
-        let strip = SpriteView {
+        let strip = Square {
             rect: PixelRect {
                 x0,
                 x1: p.rect.x1.min(x0 + 3),
@@ -374,12 +289,13 @@ fn fill_pixels<B: Blender, const LINEAR: bool, T: Texel>(
 
 /// [`fill_modulate`] for a sprite under four columns wide: its columns on the stack, each
 /// pixel through [`TexelRow::texel`] (the commonest particle is a few pixels). Inline, so that
-/// it inlines into [`fill_sprites`]' loop, which is instantiated where it is called.
+/// it inlines into the binned sprites' loop ([`super::binning`]), which is instantiated where it
+/// is called.
 #[inline]
 fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     ctx: &DrawContext,
     b: &B,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     alpha: ModulateAlpha,
     LevelTexels {

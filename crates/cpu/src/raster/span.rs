@@ -28,59 +28,17 @@
 
 use pointillist_core::color::unpack;
 use pointillist_core::states::Cmp;
-use pointillist_core::texture::{COORD_LIMIT, Level as TextureLevel, SamplerDesc, fetch};
+use pointillist_core::texture::COORD_LIMIT;
 
-use super::blending::{PART, Row, WHOLE, WINDOW, write_span};
-use super::{Band, Blender, DrawContext, ModulateAlpha, SpriteView, rows};
+use super::blending::{Blender, PART, Row, WHOLE, WINDOW, write_span};
+use super::context::DrawContext;
+use super::shading::ModulateAlpha;
+use super::target::{Band, rows};
+use super::texels::PlanarLevel;
 use crate::lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable, channels};
-
-/// A level's texels as four planes of f32 (blue, green, red, alpha: SPEC 1's unpack), each
-/// `(width + 2) x (height + 2)` with a margin of one texel on every side holding the texel the
-/// sampler's address modes read there (SPEC 5.2: [`fetch`]).
-pub(super) struct PlanarLevel {
-    width: u32,
-    height: u32,
-    /// Entries a plane row holds: `width + 2`.
-    pitch: usize,
-    /// Entries a plane holds.
-    plane: usize,
-    /// The four planes, then [`MAX_LANES`] + 1 entries so that a span's loads past the last
-    /// row stay inside.
-    texels: Vec<f32>,
-    /// The same texels packed (D3DCOLOR), one plane, then [`MAX_LANES`] entries: what point
-    /// sampling reads, and linear filtering where rows are too long for
-    /// [`Lanes::REGISTER_GATHER`] (one gather for four channels).
-    packed: Vec<u32>,
-}
+use crate::stage::Square;
 
 impl PlanarLevel {
-    /// `level` read through `sampler`'s address modes and border colour.
-    pub(super) fn new(level: &TextureLevel, sampler: &SamplerDesc) -> PlanarLevel {
-        let pitch = level.width as usize + 2;
-        let plane = pitch * (level.height as usize + 2);
-        let mut texels = vec![0.0; 4 * plane + MAX_LANES + 1];
-        let mut packed = vec![0; plane + MAX_LANES];
-        for y in 0..level.height as usize + 2 {
-            for x in 0..pitch {
-                let texel = fetch(level, sampler, x as i64 - 1, y as i64 - 1);
-                let [r, g, b, a] = unpack(texel);
-                let at = y * pitch + x;
-                packed[at] = texel;
-                for (c, v) in [b, g, r, a].into_iter().enumerate() {
-                    texels[c * plane + at] = v;
-                }
-            }
-        }
-        PlanarLevel {
-            width: level.width,
-            height: level.height,
-            pitch,
-            plane,
-            texels,
-            packed,
-        }
-    }
-
     /// [`MAX_LANES`] + 1 entries of each plane from entry `x` of row `y` (into the padding
     /// past the last plane where they run over it), for one bounds check instead of four.
     #[inline(always)]
@@ -152,7 +110,7 @@ pub(super) fn fill<B: Blender>(
     level: Level,
     linear: bool,
     draw: SpanDraw<B>,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     s: &mut SpanScratch,
     texture: SpanTexture,
@@ -194,7 +152,7 @@ pub(super) fn fill<B: Blender>(
 fn fill_sse2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     l: L,
     draw: SpanDraw<B>,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     s: &mut SpanScratch,
     texture: SpanTexture,
@@ -208,7 +166,7 @@ fn fill_sse2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
 fn fill_avx2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     l: L,
     draw: SpanDraw<B>,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     s: &mut SpanScratch,
     texture: SpanTexture,
@@ -222,7 +180,7 @@ fn fill_avx2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
 fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     l: L,
     draw: SpanDraw<B>,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     s: &mut SpanScratch,
     texture: SpanTexture,
@@ -302,7 +260,7 @@ fn axis<L: Lanes, const LINEAR: bool>(
 fn fill_with<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool>(
     l: L,
     SpanDraw { ctx, b }: SpanDraw<B>,
-    p: &SpriteView,
+    p: &Square,
     band: &mut Band,
     s: &mut SpanScratch,
     SpanTexture {
@@ -656,7 +614,7 @@ mod tests {
     use pointillist_core::point::sprite_coord;
 
     /// [`axis`] on `l` against the per-pixel fills' indices (core's `sprite_coord`, then
-    /// `linear_texel` or `point_texel` through [`super::super::texel_index`]).
+    /// `linear_texel` or `point_texel` through [`super::super::texels::texel_index`]).
     fn axis_matches_the_per_pixel_indices<L: Lanes>(l: L) {
         let mut rng = Rng(0xA515_0000_0000_0001 ^ L::N as u64);
         let (mut entries, mut weights, mut consecutive) = (Vec::new(), Vec::new(), Vec::new());
@@ -707,9 +665,9 @@ mod tests {
                     .map(|k| {
                         let u = sprite_coord(first + k as i32, edge, size);
                         let (k, w) = if linear {
-                            super::super::texel_index::<true>(u, n)
+                            super::super::texels::texel_index::<true>(u, n)
                         } else {
-                            super::super::texel_index::<false>(u, n)
+                            super::super::texels::texel_index::<false>(u, n)
                         };
                         (k >= -1 && k + i64::from(linear) <= i64::from(n))
                             .then_some(((k + 1) as u32, w))

@@ -13,9 +13,12 @@ use pointillist_core::states::{
 };
 use pointillist_core::texture::Texture;
 
+use super::bands::DrawTarget;
 use super::blending::{General, Replace};
+use super::context::DrawContext;
 use super::shading::Shading;
-use super::{Bins, DrawTarget, LanesLevel, context, draw_context, draw_with};
+use super::{Bins, draw_context, draw_with};
+use crate::lanes::Level as LanesLevel;
 use crate::test_rng::Rng;
 
 /// A draw into `target` with `bins` and no clear.
@@ -93,7 +96,7 @@ fn random_target(rng: &mut Rng) -> RenderTarget {
 /// The general path: the core cascade per pixel and the core blender, one point after
 /// another on the calling thread.
 fn draw_general(target: &mut RenderTarget, state: &DeviceState, fvf: Fvf, vertices: &[u8]) {
-    let mut ctx = context(&DrawSetup::new(state, fvf), vertices);
+    let mut ctx = DrawContext::new(&DrawSetup::new(state, fvf), vertices, [0.0; 2]);
     ctx.shading = Shading::General;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -163,7 +166,7 @@ fn solid_runs_match_the_general_path() {
         let mut general = start();
         draw_general(&mut general, state, fvf, &vertices);
         let mut solid = start();
-        let ctx = context(&DrawSetup::new(state, fvf), &vertices);
+        let ctx = DrawContext::new(&DrawSetup::new(state, fvf), &vertices, [0.0; 2]);
         assert!(ctx.flat && ctx.shading == Shading::Diffuse);
         draw_context(&ctx, drawing(&mut solid, &mut Bins::default()));
         assert!(solid.color == general.color, "scene {scene}: colour");
@@ -225,7 +228,7 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
         let levels = LanesLevel::available().into_iter().map(|l| (Some(l), true));
         for (lanes, binned) in levels.chain([(None, true), (None, false)]) {
             let mut fast = start.clone();
-            let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
+            let mut ctx = DrawContext::new(&DrawSetup::new(state, fvf), &vertices, [0.0; 2]);
             (ctx.spans, ctx.binned) = (lanes, binned);
             if let Some(t) = &mut ctx.textures[0] {
                 t.unpack();
@@ -274,7 +277,7 @@ fn spec_5_2_spans_take_mipmapped_large_and_sequential_sprites() {
         let levels = LanesLevel::available().into_iter().map(Some);
         for lanes in levels.chain([None]) {
             let mut fast = start.clone();
-            let mut ctx = context(&DrawSetup::new(state, fvf), &vertices);
+            let mut ctx = DrawContext::new(&DrawSetup::new(state, fvf), &vertices, [0.0; 2]);
             assert_eq!(ctx.binned, binned, "scene {scene}");
             ctx.spans = lanes;
             draw_context(&ctx, drawing(&mut fast, &mut Bins::default()));

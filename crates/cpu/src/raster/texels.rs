@@ -10,15 +10,14 @@
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use pointillist_core::device::MAX_STAGES;
-use pointillist_core::point::{ScreenPoint, sprite_coord, sprite_lod};
+use pointillist_core::color::unpack;
+use pointillist_core::point::{sprite_coord, sprite_lod};
 use pointillist_core::texture::{
-    Level, LodSampler, SamplerDesc, Texture, linear_texel, point_texel,
+    Level, LodSampler, SamplerDesc, Texture, fetch, linear_texel, point_texel,
 };
 
-use super::fills::SpriteView;
-use super::{DrawContext, span};
-use crate::lanes::{BASELINE, Channels, Lanes, Quad};
+use crate::lanes::{BASELINE, Channels, Lanes, MAX_LANES, Quad};
+use crate::stage::Square;
 
 /// A stage's texture and sampler for the draw.
 pub(super) struct StageTexture<'a> {
@@ -45,16 +44,64 @@ const UNPACKED_MAX_TEXELS: usize = 1 << 16;
 /// are sampled per pixel, so that a draw's memory stays within a few times its textures'.
 const PLANAR_MAX_ENTRIES: usize = 2050 * 2050;
 
-/// One level's planar form ([`span::PlanarLevel`]), built at most once per draw, by the first
+/// One level's planar form ([`PlanarLevel`]), built at most once per draw, by the first
 /// sprite that finds it paid for: once the draw's sprites on the level have covered, pixel by
 /// pixel, as many pixels as the form has entries. A level few pixels read is never unpacked
 /// whole, and the unpacking, a few operations an entry, is then a fraction of the per-pixel
 /// work already done.
 #[derive(Default)]
 struct Planar {
-    form: OnceLock<span::PlanarLevel>,
+    form: OnceLock<PlanarLevel>,
     /// Pixels filled per pixel on the level while the form was not built.
     pixels: AtomicU64,
+}
+
+/// A level's texels as four planes of f32 (blue, green, red, alpha: SPEC 1's unpack), each
+/// `(width + 2) x (height + 2)` with a margin of one texel on every side holding the texel the
+/// sampler's address modes read there (SPEC 5.2: [`fetch`]).
+pub(super) struct PlanarLevel {
+    pub(super) width: u32,
+    pub(super) height: u32,
+    /// Entries a plane row holds: `width + 2`.
+    pub(super) pitch: usize,
+    /// Entries a plane holds.
+    pub(super) plane: usize,
+    /// The four planes, then [`MAX_LANES`] + 1 entries so that a span's loads past the last
+    /// row stay inside.
+    pub(super) texels: Vec<f32>,
+    /// The same texels packed (D3DCOLOR), one plane, then [`MAX_LANES`] entries: what point
+    /// sampling reads, and linear filtering where rows are too long for
+    /// [`Lanes::REGISTER_GATHER`] (one gather for four channels).
+    pub(super) packed: Vec<u32>,
+}
+
+impl PlanarLevel {
+    /// `level` read through `sampler`'s address modes and border colour.
+    pub(super) fn new(level: &Level, sampler: &SamplerDesc) -> PlanarLevel {
+        let pitch = level.width as usize + 2;
+        let plane = pitch * (level.height as usize + 2);
+        let mut texels = vec![0.0; 4 * plane + MAX_LANES + 1];
+        let mut packed = vec![0; plane + MAX_LANES];
+        for y in 0..level.height as usize + 2 {
+            for x in 0..pitch {
+                let texel = fetch(level, sampler, x as i64 - 1, y as i64 - 1);
+                let [r, g, b, a] = unpack(texel);
+                let at = y * pitch + x;
+                packed[at] = texel;
+                for (c, v) in [b, g, r, a].into_iter().enumerate() {
+                    texels[c * plane + at] = v;
+                }
+            }
+        }
+        PlanarLevel {
+            width: level.width,
+            height: level.height,
+            pitch,
+            plane,
+            texels,
+            packed,
+        }
+    }
 }
 
 /// A texel as the per-pixel fill reads it: a D3DCOLOR, or one unpacked already.
@@ -126,7 +173,7 @@ impl<'a> StageTexture<'a> {
                 self.unpacked = texels.iter().map(|&c| BASELINE.color(c)).collect();
                 if let Some(slot) = self.slot(&f) {
                     slot.form
-                        .get_or_init(|| span::PlanarLevel::new(f.level(), &self.sampler));
+                        .get_or_init(|| PlanarLevel::new(f.level(), &self.sampler));
                 }
             }
         }
@@ -157,14 +204,14 @@ impl<'a> StageTexture<'a> {
 
     /// The planar form of `sampler`'s level, if built.
     #[inline]
-    pub(super) fn built(&self, sampler: &LodSampler) -> Option<&span::PlanarLevel> {
+    pub(super) fn built(&self, sampler: &LodSampler) -> Option<&PlanarLevel> {
         self.slot(sampler)?.form.get()
     }
 
     /// The planar form of `sampler`'s level for a sprite that covers `pixels` pixels: built
     /// once the draw's sprites on the level pay for it ([`Planar`]); `None` until then, for a
     /// level of more than [`PLANAR_MAX_ENTRIES`], and where the sampler blends two levels.
-    pub(super) fn planar(&self, sampler: &LodSampler, pixels: u64) -> Option<&span::PlanarLevel> {
+    pub(super) fn planar(&self, sampler: &LodSampler, pixels: u64) -> Option<&PlanarLevel> {
         let slot = self.slot(sampler)?;
         if let Some(form) = slot.form.get() {
             return Some(form);
@@ -178,7 +225,7 @@ impl<'a> StageTexture<'a> {
         }
         Some(
             slot.form
-                .get_or_init(|| span::PlanarLevel::new(level, &self.sampler)),
+                .get_or_init(|| PlanarLevel::new(level, &self.sampler)),
         )
     }
 }
@@ -193,18 +240,6 @@ pub(super) struct Column {
     pub(super) k: i32,
     /// Weight of the second texel column (linear filtering).
     pub(super) fx: f32,
-}
-
-/// The per-point part of a textured sprite: u per column, one sampler per stage at the sprite's
-/// level of detail (SPEC 4.3, 5.2).
-pub(super) fn sprite_samplers<'a>(
-    ctx: &'a DrawContext,
-    p: &ScreenPoint,
-    u: &mut Vec<f32>,
-) -> [Option<LodSampler<'a>>; MAX_STAGES] {
-    u.clear();
-    u.extend((p.rect.x0..p.rect.x1).map(|i| sprite_coord(i, p.left, p.size)));
-    std::array::from_fn(|k| ctx.textures[k].as_ref().map(|t| t.sprite_sampler(p.size)))
 }
 
 /// The texel index along an axis of `n` texels and the weight of the next texel (SPEC 5.2):
@@ -229,7 +264,7 @@ impl Column {
     /// Covered column `i` of sprite `p` on a level `w` texels wide; `single`: the sampler reads
     /// that level alone (no mip blend).
     #[inline(always)]
-    pub(super) fn new<const LINEAR: bool>(i: i32, p: &SpriteView, w: u32, single: bool) -> Column {
+    pub(super) fn new<const LINEAR: bool>(i: i32, p: &Square, w: u32, single: bool) -> Column {
         let u = sprite_coord(i, p.left, p.size);
         let (k, fx) = texel_index::<LINEAR>(u, w);
         let k = if single && texel_inside::<LINEAR>(k, w) {
@@ -259,7 +294,7 @@ impl<'l, T: Texel> TexelRow<'l, T> {
     #[inline(always)]
     pub(super) fn new<const LINEAR: bool>(
         j: i32,
-        p: &SpriteView,
+        p: &Square,
         level: &Level,
         texels: &'l [T],
         single: bool,
