@@ -171,7 +171,7 @@ fn fill_sprite<B: Blender>(
 
 /// The per-point part of a textured sprite: u per column, one sampler per stage at the sprite's
 /// level of detail (SPEC 4.3, 5.2).
-pub(super) fn sprite_samplers<'a>(
+fn sprite_samplers<'a>(
     ctx: &'a DrawContext,
     p: &ScreenPoint,
     u: &mut Vec<f32>,
