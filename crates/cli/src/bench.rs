@@ -11,6 +11,7 @@ use pointillist_bench::workloads::{Kind, Workload};
 use pointillist_bench::{
     BenchOptions, Timing, median, ms, run as run_bench, time_frames, time_pointillist,
 };
+use pointillist_core::states::{FogMode, RenderState};
 use pointillist_core::{Backend, Device, DeviceDesc, TransformType};
 use pointillist_gpu::{ContextOptions, GpuBackend, GpuContext};
 use pointillist_particles::{DrawBuffers, ParticleSystem, presets};
@@ -29,6 +30,9 @@ Time the performance workloads and print per-frame medians (clear + draw + finis
   W4    200,000 perspective points, POINTSCALEENABLE, depth test, alpha blending, 1920x1080
   snow  the 200,000-flake snow storm preset at 1920x1080: one 1/60 s simulation step, then
         clear + draw, per frame (simulation alone is timed too)
+  snow_fog      the storm in linear range vertex fog, 4 to 24 units, black (as
+                scenes/snow_fog.toml)
+  snow_lit_fog  the fogged storm lit: LIGHTING, white AMBIENT, AMBIENTMATERIALSOURCE COLOR1
 
 --backend gpu times the GPU backend on whatever adapter wgpu finds (a frame ends when the GPU
 is idle). With --peer llvmpipe the same points are drawn with Mesa llvmpipe's OpenGL point
@@ -47,7 +51,7 @@ animate SCENE -o OUT.png` (an APNG) is timed, alternating with the same for one 
 /// Arguments of `pointillist bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Workloads to run (w1, w2, w3, w4, snow), comma-separated.
+    /// Workloads to run (w1, w2, w3, w4, snow, snow_fog, snow_lit_fog), comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "w1,w2,w3,w4")]
     workloads: Vec<String>,
     /// Points per workload (flakes for snow) instead of each workload's default.
@@ -82,16 +86,20 @@ const SNOW_FLAKES: usize = 200_000;
 /// Runs the benchmark, printing one line per renderer and workload.
 pub fn run(args: &BenchArgs) -> Result<(), String> {
     let mut kinds = Vec::new();
-    let mut snow = false;
+    let mut storms = Vec::new();
     for w in &args.workloads {
-        if w.eq_ignore_ascii_case("snow") {
-            snow = true;
+        if let Some(storm) = Storm::parse(w) {
+            storms.push(storm);
         } else {
             kinds.push(Kind::parse(w).ok_or_else(|| {
-                format!("unknown workload `{w}` (expected w1, w2, w3, w4 or snow)")
+                format!(
+                    "unknown workload `{w}` (expected w1, w2, w3, w4, snow, snow_fog or \
+                     snow_lit_fog)"
+                )
             })?);
         }
     }
+    let snow = storms.contains(&Storm::Plain);
     let llvmpipe = match args.peer.as_deref() {
         None => false,
         Some(p) if p.eq_ignore_ascii_case("llvmpipe") => true,
@@ -101,6 +109,13 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         return Err("--frames must be at least 1".into());
     }
     if args.end_to_end {
+        if storms.iter().any(|s| *s != Storm::Plain) {
+            return Err(
+                "--end-to-end times the plain storm (`snow`) only; time snow_fog and \
+                        snow_lit_fog with `animate scenes/snow_fog.toml`"
+                    .into(),
+            );
+        }
         if args.naive || args.fixed_function_blending {
             return Err("--end-to-end times whole commands, without --naive \
                         or --fixed-function-blending"
@@ -172,10 +187,70 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         };
         run_bench(&options, ours, |line| crate::report::outln!("{line}"))?;
     }
-    if snow {
-        snow_storm(args.points.unwrap_or(SNOW_FLAKES), args.frames, gpu)?;
+    for storm in storms {
+        snow_storm(
+            storm,
+            args.points.unwrap_or(SNOW_FLAKES),
+            args.frames,
+            gpu.clone(),
+        )?;
     }
     Ok(())
+}
+
+/// The snow storm workloads: plain, fogged, and lit and fogged (what the fog and lighting of
+/// particles cost beside the plain storm).
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Storm {
+    Plain,
+    Fog,
+    LitFog,
+}
+
+impl Storm {
+    fn parse(name: &str) -> Option<Storm> {
+        [
+            ("snow", Storm::Plain),
+            ("snow_fog", Storm::Fog),
+            ("snow_lit_fog", Storm::LitFog),
+        ]
+        .into_iter()
+        .find(|(n, _)| name.eq_ignore_ascii_case(n))
+        .map(|(_, s)| s)
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Storm::Plain => "snow",
+            Storm::Fog => "snow_fog",
+            Storm::LitFog => "snow_lit_fog",
+        }
+    }
+
+    /// The render states this storm adds to the preset's: SPEC 9's linear range vertex fog of
+    /// scenes/snow_fog.toml, and SPEC 8's lighting with the vertex colour as the ambient
+    /// material under a white AMBIENT (no light is enabled, and flakes have no normal).
+    fn states(self) -> Vec<(RenderState, u32)> {
+        use RenderState as R;
+        let fog = [
+            (R::FOGENABLE, 1),
+            (R::FOGVERTEXMODE, FogMode::Linear as u32),
+            (R::RANGEFOGENABLE, 1),
+            (R::FOGSTART, 4.0f32.to_bits()),
+            (R::FOGEND, 24.0f32.to_bits()),
+            (R::FOGCOLOR, 0xFF00_0000),
+        ];
+        let lit = [
+            (R::LIGHTING, 1),
+            (R::AMBIENT, 0xFFFF_FFFF),
+            (R::AMBIENTMATERIALSOURCE, 1), // D3DMCS_COLOR1
+        ];
+        match self {
+            Storm::Plain => Vec::new(),
+            Storm::Fog => fog.to_vec(),
+            Storm::LitFog => fog.iter().chain(&lit).copied().collect(),
+        }
+    }
 }
 
 /// Times `frames` frames of `w` on the GPU backend (clear + draw + wait for the GPU), after
@@ -198,14 +273,23 @@ fn time_gpu(ctx: &Arc<GpuContext>, w: &Workload, frames: usize) -> Result<Timing
     })
 }
 
-/// The snow storm preset with `flakes` flakes at its steady state, simulated alone and
-/// simulated and drawn at 1920x1080 on the chosen backend.
-fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Result<(), String> {
+/// The snow storm preset with `flakes` flakes at its steady state, under `storm`'s states,
+/// simulated alone and simulated and drawn at 1920x1080 on the chosen backend.
+fn snow_storm(
+    storm: Storm,
+    flakes: usize,
+    frames: usize,
+    gpu: Option<Arc<GpuContext>>,
+) -> Result<(), String> {
     let texture = Arc::new(presets::soft_disc_texture(32));
-    let config = presets::snow_storm_system(flakes, Some(texture), 1);
+    let mut config = presets::snow_storm_system(flakes, Some(texture), 1);
+    for emitter in &mut config.emitters {
+        emitter.render.states.extend(storm.states());
+    }
+    let label = storm.name();
     let mut system = ParticleSystem::new(config).map_err(|e| e.to_string())?;
     crate::report::errln!(
-        "snow: warming the storm up to its steady state ({} s of simulation)...",
+        "{label}: warming the storm up to its steady state ({} s of simulation)...",
         presets::SNOW_STORM_WARMUP
     );
     system.advance_to(presets::SNOW_STORM_WARMUP);
@@ -217,7 +301,7 @@ fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Res
     });
     let step = median(&step);
     crate::report::outln!(
-        "snow {live} flakes: simulate one 1/60 s step {:>10}  {:8.1} M particles/s",
+        "{label} {live} flakes: simulate one 1/60 s step {:>10}  {:8.1} M particles/s",
         ms(step),
         live as f64 / step.as_secs_f64() / 1e6
     );
@@ -238,7 +322,7 @@ fn snow_storm(flakes: usize, frames: usize, gpu: Option<Arc<GpuContext>>) -> Res
         }
     };
     crate::report::outln!(
-        "snow {live} flakes 1920x1080: simulate + draw, {name:<16} {:>10}  {:8.1} frames/s  {:8.1} M particles/s",
+        "{label} {live} flakes 1920x1080: simulate + draw, {name:<16} {:>10}  {:8.1} frames/s  {:8.1} M particles/s",
         ms(frame),
         1.0 / frame.as_secs_f64(),
         live as f64 / frame.as_secs_f64() / 1e6

@@ -17,8 +17,9 @@ use pointillist_core::states::Cmp;
 use crate::lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
 
 /// What the fills read of a point: its covered rectangle (never empty), depth, size, near
-/// edges, diffuse colour (SPEC 4.1 to 4.3) and the user clip planes that cut it per pixel
-/// (SPEC 3.3; none for the points [`VertexProcessing`] takes).
+/// edges, diffuse colour (SPEC 4.1 to 4.3), vertex fog factor (SPEC 9; 1 for the points
+/// [`VertexProcessing`] takes, which are not fogged) and the user clip planes that cut it per
+/// pixel (SPEC 3.3; none for those points).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(crate) struct Square<'p> {
     pub rect: PixelRect,
@@ -27,6 +28,7 @@ pub(crate) struct Square<'p> {
     pub left: f32,
     pub top: f32,
     pub diffuse: u32,
+    pub fog: f32,
     pub planes: &'p [PixelPlane],
 }
 
@@ -40,6 +42,7 @@ impl<'p> From<&'p ScreenPoint> for Square<'p> {
             left: p.left,
             top: p.top,
             diffuse: p.diffuse,
+            fog: p.fog,
             planes: p.pixel_planes(),
         }
     }
@@ -275,6 +278,7 @@ impl VertexProcessing {
             diffuse: self
                 .diffuse
                 .map_or(pointillist_core::color::WHITE, |o| read_u32(v, o)),
+            fog: 1.0,
             planes: &[],
         })
     }
@@ -537,6 +541,7 @@ impl VertexProcessing {
                         left: floats[1][i],
                         top: floats[2][i],
                         diffuse: diffuse[i],
+                        fog: 1.0,
                         planes: &[],
                     };
                     f(index + i as u32, &square);

@@ -210,10 +210,7 @@ impl Binned for Sprite {
     }
     #[inline]
     fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
-        // Sprites are binned only for this shading, with a texture (see `draw_with`).
-        if let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) {
-            fill_modulate(ctx, b, &self.view(), t, band, s, alpha);
-        }
+        fill_sprite(self, ctx, b, band, s);
     }
 
     /// [`fill_sprites`]: the sampler, its filter and the wide spans resolved once for the band.
@@ -229,7 +226,49 @@ impl Binned for Sprite {
     }
 }
 
-impl Sprite {
+/// A [`Sprite`] in vertex fog (SPEC 9): its fog factor too, 32 bytes. The lit colour (SPEC 8)
+/// and the fog factor come from the per-point stage once, at binning.
+#[derive(Copy, Clone)]
+pub(super) struct FoggedSprite {
+    sprite: Sprite,
+    fog: f32,
+}
+
+impl Binned for FoggedSprite {
+    fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<FoggedSprite>> {
+        &mut bins.fogged_sprite
+    }
+    #[inline]
+    fn new(ctx: &DrawContext, p: &Square, index: u32) -> Option<FoggedSprite> {
+        let sprite = Sprite::new(ctx, p, index)?;
+        Some(FoggedSprite { sprite, fog: p.fog })
+    }
+    #[inline]
+    fn rows(&self) -> (i32, i32) {
+        self.sprite.rows()
+    }
+    #[inline]
+    fn fill<B: Blender>(&self, ctx: &DrawContext, b: &B, band: &mut Band, s: &mut Scratch) {
+        fill_sprite(self, ctx, b, band, s);
+    }
+    #[inline]
+    fn fill_all<B: Blender>(
+        points: &[FoggedSprite],
+        ctx: &DrawContext,
+        b: &B,
+        band: &mut Band,
+        s: &mut Scratch,
+    ) {
+        fill_sprites(points, ctx, b, band, s);
+    }
+}
+
+/// A bin entry of a textured sprite with [`Shading::Modulate`]: what its fills read of it.
+trait SpriteEntry: Binned {
+    fn view(&self) -> Square<'static>;
+}
+
+impl SpriteEntry for Sprite {
     #[inline(always)]
     fn view(&self) -> Square<'static> {
         Square {
@@ -239,8 +278,34 @@ impl Sprite {
             left: self.left,
             top: self.top,
             size: self.size,
+            fog: 1.0,
             planes: &[],
         }
+    }
+}
+
+impl SpriteEntry for FoggedSprite {
+    #[inline(always)]
+    fn view(&self) -> Square<'static> {
+        Square {
+            fog: self.fog,
+            ..self.sprite.view()
+        }
+    }
+}
+
+/// Fills one binned sprite through [`fill_modulate`].
+#[inline]
+fn fill_sprite<B: Blender>(
+    p: &impl SpriteEntry,
+    ctx: &DrawContext,
+    b: &B,
+    band: &mut Band,
+    s: &mut Scratch,
+) {
+    // Sprites are binned only for this shading, with a texture (see `draw_with`).
+    if let (Shading::Modulate(alpha), Some(t)) = (ctx.shading, &ctx.textures[0]) {
+        fill_modulate(ctx, b, &p.view(), t, band, s, alpha);
     }
 }
 
@@ -249,8 +314,8 @@ impl Sprite {
 /// its filter, its texels and the form are resolved once for the band instead of once a
 /// sprite.
 #[inline]
-fn fill_sprites<B: Blender>(
-    points: &[Sprite],
+fn fill_sprites<B: Blender, S: SpriteEntry>(
+    points: &[S],
     ctx: &DrawContext,
     b: &B,
     band: &mut Band,
@@ -331,6 +396,7 @@ pub(crate) struct Bins {
     any_point: Vec<Chunk<AnyPoint>>,
     solid: Vec<Chunk<Solid>>,
     sprite: Vec<Chunk<Sprite>>,
+    fogged_sprite: Vec<Chunk<FoggedSprite>>,
 }
 
 impl Bins {
@@ -345,7 +411,7 @@ impl Bins {
                 .sum::<usize>()
                 * size_of::<P>()
         }
-        of(&self.any_point) + of(&self.solid) + of(&self.sprite)
+        of(&self.any_point) + of(&self.solid) + of(&self.sprite) + of(&self.fogged_sprite)
     }
 }
 

@@ -314,7 +314,7 @@ fn fill_narrow<B: Blender, const LINEAR: bool, T: Texel>(
     for (c, i) in cols.iter_mut().zip(x0..p.rect.x1) {
         *c = Column::new::<LINEAR>(i, p, level.width, single);
     }
-    let modulate = Modulate::new(alpha, p.diffuse);
+    let modulate = Modulate::new(alpha, p.diffuse, p.fog, ctx.pixel.fog);
     let width = level.width as usize;
     for j in rows(p.rect, band) {
         let texel_row = TexelRow::new::<LINEAR>(j, p, level, texels, single);

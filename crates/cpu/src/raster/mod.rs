@@ -50,7 +50,7 @@ mod texels;
 
 use bands::{DrawTarget, draw_binned};
 pub(crate) use binning::Bins;
-use binning::{AnyPoint, Binned, Solid, Sprite};
+use binning::{AnyPoint, Binned, FoggedSprite, Solid, Sprite};
 use blending::{Additive, Blender, General, Replace, SourceAlpha};
 use context::DrawContext;
 use fills::Scratch;
@@ -97,7 +97,11 @@ fn draw_with<B: Blender>(ctx: &DrawContext, b: &B, out: DrawTarget) {
         draw_points::<B, Solid>(ctx, b, out);
     } else if !ctx.flat && matches!(ctx.shading, Shading::Modulate(_)) && ctx.textures[0].is_some()
     {
-        draw_points::<B, Sprite>(ctx, b, out);
+        if ctx.pixel.fog.is_some() {
+            draw_points::<B, FoggedSprite>(ctx, b, out);
+        } else {
+            draw_points::<B, Sprite>(ctx, b, out);
+        }
     } else {
         draw_points::<B, AnyPoint>(ctx, b, out);
     }

@@ -1,9 +1,9 @@
 //! Shading: how a draw's pixels get their colour, decided once per draw ([`Shading`]), and the
 //! single MODULATE stage of the commonest particle setup ([`Modulate`], SPEC 5.1).
 //!
-//! Contract: [`Modulate`] computes exactly core's cascade for that stage.
+//! Contract: [`Modulate`] computes exactly core's cascade for that stage and core's fog blend.
 
-use pointillist_core::color::unpack;
+use pointillist_core::color::{Rgba, unpack};
 use pointillist_core::pixel::{PixelSetup, ShadeInputs};
 use pointillist_core::point::ScreenPoint;
 use pointillist_core::states::{TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
@@ -26,8 +26,8 @@ pub(super) enum ModulateAlpha {
 pub(super) enum Shading {
     /// The cascade passes DIFFUSE through ([`PixelSetup::passes_diffuse`]).
     Diffuse,
-    /// Stage 0 alone, COLOROP MODULATE(TEXTURE, DIFFUSE or CURRENT), no specular, no fog: the
-    /// commonest particle setup, as the cascade computes it.
+    /// Stage 0 alone, COLOROP MODULATE(TEXTURE, DIFFUSE or CURRENT), no specular, fogged or
+    /// not: the commonest particle setup, as the cascade computes it.
     Modulate(ModulateAlpha),
     /// Anything else: [`PixelSetup::shade`].
     General,
@@ -43,7 +43,6 @@ impl Shading {
         let diffuse = |a: u32| a == TA_DIFFUSE || a == TA_CURRENT; // stage 0: CURRENT is DIFFUSE
         if px.stage_count != 1
             || px.specular
-            || px.fog.is_some()
             || !st.samples
             || st.result_to_temp
             || st.color_op != TextureOp::Modulate
@@ -76,7 +75,8 @@ pub(super) fn inputs(p: &ScreenPoint) -> ShadeInputs {
     }
 }
 
-/// The single MODULATE stage of [`Shading::Modulate`] for one diffuse colour (SPEC 5.1).
+/// The single MODULATE stage of [`Shading::Modulate`] for one point (SPEC 5.1), then its
+/// vertex fog (SPEC 9.1), if the draw is fogged.
 #[derive(Copy, Clone)]
 pub(super) struct Modulate {
     /// The multiplier of the texel: diffuse, with alpha 1 (exact) where the texture's alpha
@@ -85,11 +85,22 @@ pub(super) struct Modulate {
     diffuse: Channels,
     /// The result takes the diffuse alpha.
     diffuse_alpha: bool,
+    /// The point's fog factor `f` in every lane and `(1 - f) * FOGCOLOR`: core's
+    /// [`fog_blend`](pointillist_core::fog::fog_blend) is `c * f + FOGCOLOR * (1 - f)` on red,
+    /// green and blue.
+    fog: Option<(Channels, Channels)>,
 }
 
 impl Modulate {
+    /// The stage for a point of colour `diffuse` and fog factor `fog`, in a draw fogged with
+    /// `fog_color` ([`PixelSetup::fog`]; `None`: not fogged).
     #[inline(always)]
-    pub(super) fn new(alpha: ModulateAlpha, diffuse: u32) -> Modulate {
+    pub(super) fn new(
+        alpha: ModulateAlpha,
+        diffuse: u32,
+        fog: f32,
+        fog_color: Option<Rgba>,
+    ) -> Modulate {
         let (l, d) = (BASELINE, BASELINE.color(diffuse));
         Modulate {
             m: match alpha {
@@ -98,18 +109,22 @@ impl Modulate {
             },
             diffuse: d,
             diffuse_alpha: alpha == ModulateAlpha::Diffuse,
+            fog: fog_color.map(|c| (l.splat(fog), l.mul(l.rgba(c), l.splat(1.0 - fog)))),
         }
     }
 
-    /// The stage's result for `texel`, packed (SPEC 1).
+    /// The stage's result for `texel`, fogged, packed (SPEC 1).
     #[inline(always)]
     pub(super) fn shade(&self, texel: Channels) -> u32 {
         let l = BASELINE;
-        let shaded = l.mul(texel, self.m);
+        let mut shaded = l.mul(texel, self.m);
         if self.diffuse_alpha {
-            l.pack_color(l.with_alpha_of(shaded, self.diffuse))
-        } else {
-            l.pack_color(shaded)
+            shaded = l.with_alpha_of(shaded, self.diffuse);
         }
+        if let Some((f, fog)) = self.fog {
+            // The products are in 0..=1, so the stage's clamp leaves them as they are.
+            shaded = l.with_alpha_of(l.add(l.mul(shaded, f), fog), shaded);
+        }
+        l.pack_color(shaded)
     }
 }

@@ -102,7 +102,8 @@ pub(super) struct SpanTexture<'a> {
 }
 
 /// Fills the pixels of sprite `p` inside `band` on the widest `level` (SPEC 4.3, 5.1 to 5.6);
-/// false, with nothing written, when its texel indices leave `texels`' margin.
+/// false, with nothing written, when its texel indices leave `texels`' margin or the draw is
+/// fogged.
 ///
 /// Never inlined: the narrow sprites' loop that calls it stays small.
 #[inline(never)]
@@ -115,8 +116,12 @@ pub(super) fn fill<B: Blender>(
     s: &mut SpanScratch,
     texture: SpanTexture,
 ) -> bool {
-    // No alpha test, depth test or channel mask: each pixel is only the blend.
     let px = &draw.ctx.pixel;
+    // The spans do not fog (SPEC 9.1); a fogged draw has no spans ([`DrawContext::spans`]).
+    if px.fog.is_some() {
+        return false;
+    }
+    // No alpha test, depth test or channel mask: each pixel is only the blend.
     let plain = px.alpha_test.is_none() && px.depth.is_none() && px.write_mask == u32::MAX;
     macro_rules! at {
         ($l:expr, $f:ident) => {
