@@ -23,7 +23,6 @@ mod report;
 mod threads;
 #[cfg(feature = "viewer")]
 mod view;
-mod work;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -379,7 +378,7 @@ pub struct AnimateArgs {
     #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
     pub behaviours: Vec<BehaviourSetting>,
     /// Refuse a draw that would write more than N pixels (`inf`: no limit).
-    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
     pub max_pixels: f64,
 }
 
@@ -450,7 +449,7 @@ pub struct RenderArgs {
     #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
     pub behaviours: Vec<BehaviourSetting>,
     /// Refuse a draw that would write more than N pixels (`inf`: no limit).
-    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
     pub max_pixels: f64,
 }
 

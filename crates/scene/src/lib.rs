@@ -35,6 +35,7 @@ pub mod case;
 mod error;
 mod parse;
 mod reader;
+pub mod work;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
