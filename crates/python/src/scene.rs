@@ -2,6 +2,7 @@
 //! writes what `pointillist animate` writes (through the same `pointillist-animation`).
 
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 use pointillist_animation::{Observer, Request};
 use pointillist_core::device::{Device, DeviceDesc};
@@ -18,6 +19,8 @@ use crate::errors::SceneError;
 /// ``behaviour`` (a dict such as ``{"minimum_size": "one_pixel"}``) sets device behaviour
 /// switches over the scene's ``[behaviour]`` table, as ``--behaviour NAME=OPTION`` does.
 /// Errors raise ``pointillist.SceneError`` with the CLI's message (file, line, column, key).
+/// Ctrl-C (``KeyboardInterrupt``) ends the call within about a second, a long particle
+/// warm-up included.
 #[pyfunction]
 #[pyo3(signature = (path, frame=None, *, backend=None, behaviour=None), text_signature = "(path, frame=None, *, backend='cpu', behaviour=None)")]
 pub fn render_scene<'py>(
@@ -56,8 +59,12 @@ pub fn render_scene<'py>(
             }
             let mut system = scene.particle_system().map_err(|e| e.to_string())?;
             let mut buffers = pointillist_particles::DrawBuffers::new();
+            // The warm-up answers Ctrl-C as the draws do.
+            let mut every = crate::interrupt::Every::new();
             scene
-                .render_frame(&mut device, &mut system, &mut buffers, frame)
+                .render_frame_checked(&mut device, &mut system, &mut buffers, frame, || {
+                    every.check()
+                })
                 .map_err(|e| e.to_string())?;
         } else {
             scene.replay(&mut device).map_err(|e| e.to_string())?;
@@ -74,20 +81,27 @@ pub fn render_scene<'py>(
 }
 
 /// Python's side of an animation: warnings kept for `warnings.warn`, and Ctrl-C (or any
-/// signal handler's exception) checked between frames (and between the pieces of a draw,
-/// [`crate::interrupt`]), which stops the animation with nothing written.
-#[derive(Default)]
+/// signal handler's exception) checked between frames, every 20 ms between the simulation's
+/// steps (a long warm-up) and between the pieces of a draw ([`crate::interrupt`]), which stops
+/// the animation with nothing written.
 struct Session {
     warnings: Vec<String>,
     interrupt: Option<PyErr>,
+    /// When the signal handlers last ran while the particles were simulated.
+    last_check: Instant,
 }
 
-impl Observer for Session {
-    fn warning(&mut self, text: &str) {
-        self.warnings.push(text.to_owned());
+impl Session {
+    fn new() -> Session {
+        Session {
+            warnings: Vec::new(),
+            interrupt: None,
+            last_check: Instant::now(),
+        }
     }
 
-    fn frame_done(&mut self, _k: u32) -> Result<(), String> {
+    fn check_signals(&mut self) -> Result<(), String> {
+        self.last_check = Instant::now();
         match Python::attach(|py| py.check_signals()) {
             Ok(()) => Ok(()),
             Err(e) => {
@@ -96,6 +110,24 @@ impl Observer for Session {
                 Err(message)
             }
         }
+    }
+}
+
+impl Observer for Session {
+    fn warning(&mut self, text: &str) {
+        self.warnings.push(text.to_owned());
+    }
+
+    fn frame_done(&mut self, _k: u32) -> Result<(), String> {
+        self.check_signals()
+    }
+
+    /// Between the simulation's steps (a long warm-up): the handlers every 20 ms.
+    fn simulating(&mut self) -> Result<(), String> {
+        if self.last_check.elapsed() < Duration::from_millis(20) {
+            return Ok(());
+        }
+        self.check_signals()
     }
 }
 
@@ -127,7 +159,7 @@ pub fn animate(
         compression: pointillist_image::png::Compression::Fast,
         behaviours: crate::behaviour::settings(behaviour)?,
     };
-    let mut session = Session::default();
+    let mut session = Session::new();
     let result = crate::interrupt::detach(py, || {
         pointillist_animation::animate(&request, || Ok(backend), &mut session)
     });

@@ -116,6 +116,43 @@ assert img[{SIDE // 2}, {SIDE // 2}, 0] > 0, img[{SIDE // 2}, {SIDE // 2}]
     assert_interrupted(*run_python(code))
 
 
+def warm_up_scene(tmp_path):
+    """A scene whose particles are warmed up for an hour of simulated time (216,000 fixed
+    steps of 1/60 s, half a million particles alive): minutes before anything is drawn."""
+    scene = tmp_path / "warm.toml"
+    scene.write_text(
+        "format = 1\n[target]\nwidth = 32\nheight = 32\n"
+        "[animation]\nframes = 3\nwarmup = 3600\n"
+        "[[emitter]]\nrate = 100000\nlifetime = [5, 5]\nmax_particles = 600000\n"
+        "velocity = { min = [-1, -1, 0], max = [1, 1, 0] }\n"
+    )
+    return scene
+
+
+def test_ctrl_c_ends_a_long_particle_warm_up(tmp_path):
+    # The warm-up ran to its end (minutes) before the first draw checked for signals.
+    scene = warm_up_scene(tmp_path)
+    code = CTRL_C + f"""
+import pointillist
+interrupted(lambda: pointillist.render_scene({str(scene)!r}))
+"""
+    assert_interrupted(*run_python(code, timeout=30))
+
+
+def test_ctrl_c_ends_the_warm_up_of_an_animation_leaving_nothing(tmp_path):
+    scene = warm_up_scene(tmp_path)
+    out = tmp_path / "frames"
+    out.mkdir()
+    code = CTRL_C + f"""
+import os, pointillist
+interrupted(lambda: pointillist.animate({str(scene)!r}, {str(out / "f_%02d.png")!r}))
+print(os.listdir({str(out)!r}))
+"""
+    rc, stdout, err = run_python(code, timeout=30)
+    assert_interrupted(rc, stdout, err)
+    assert stdout.splitlines()[1] == "[]", stdout
+
+
 def test_two_threads_on_one_device_wait_for_each_other():
     # One thread draws (the GIL released, the device held); the other sets a state meanwhile:
     # it waits for the draw, with the GIL released, instead of both waiting for ever.
