@@ -290,6 +290,10 @@ pub struct ConformArgs {
     /// fail (default 3600).
     #[arg(long, value_name = "SECS", value_parser = conform::parse_seconds, allow_negative_numbers = true, conflicts_with = "captures")]
     pub timeout: Option<std::time::Duration>,
+    /// pointillist's side refuses a case's draw that would write more than N pixels (`inf`:
+    /// no limit): that case is an error.
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// The long description of `pointillist animate --help`.

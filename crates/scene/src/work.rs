@@ -1,4 +1,4 @@
-//! The work limit of a scene's draws (`render` and `animate --max-pixels`, Python's
+//! The work limit of a scene's draws (`render`, `animate` and `conform --max-pixels`, Python's
 //! `render_scene` and `animate` `max_pixels=`): before a draw is drawn, the pixels its points
 //! cover are counted, and a draw that would write more than the limit is refused in one line
 //! instead of drawing for hours (16 million points of size 4096 on a 4096x4096 target
