@@ -398,6 +398,10 @@ pub struct ViewArgs {
     /// The backend that draws (default: the GPU when an adapter is found, else the CPU).
     #[arg(long, value_enum, ignore_case = true)]
     pub backend: Option<BackendKind>,
+    /// Refuse a draw that would write more than N pixels (`inf`: no limit): the view ends
+    /// with the error, as `render` does.
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// Which backend draws.

@@ -1,7 +1,7 @@
-//! The work limit of a scene's draws (`render`, `animate` and `conform --max-pixels`, Python's
-//! `render_scene` and `animate` `max_pixels=`): before a draw is drawn, the pixels its points
-//! cover are counted, and a draw that would write more than the limit is refused in one line
-//! instead of drawing for hours (16 million points of size 4096 on a 4096x4096 target
+//! The work limit of a scene's draws (`render`, `animate`, `view` and `conform --max-pixels`,
+//! Python's `render_scene` and `animate` `max_pixels=`): before a draw is drawn, the pixels its
+//! points cover are counted, and a draw that would write more than the limit is refused in one
+//! line instead of drawing for hours (16 million points of size 4096 on a 4096x4096 target
 //! are 2.8e14 pixel writes). The count is exact (each point's covered square inside the
 //! viewport, as the per-point stage computes it, before depth, alpha and user clip planes), and
 //! taken only when the draw's bound (its points at the largest size the clamp allows) is above
