@@ -221,7 +221,8 @@ index.html and the images; nothing else in it is touched.
 A replayer that writes no result for --case-timeout seconds (default 300) is stopped, with every
 process it started, and its case fails; the cases after it are replayed by a new start. The
 replay as a whole is stopped after --timeout seconds (default 3600), and the cases it did not
-reach fail.
+reach fail. pointillist's side refuses a draw that would write more than --max-pixels pixels
+(default 1e11) as `render` does: that case fails, before the draw.
 
 Exit status: 0 when every case matches or ends as the --expect FILE of known differences says,
 1 when a case does not, 2 when the kit itself cannot run.";
@@ -334,7 +335,9 @@ on standard error says so; --backend picks one), and shown through a blit into t
 Keys: Space pauses and resumes, Right or . steps one frame while paused, R restarts the
 particles, the arrow keys or a drag with the left mouse button orbit, the mouse wheel or + and -
 zoom, Esc or Q quits. The window title shows the particle count and the time a frame takes.
---frames N renders N frames of 1/fps each and exits (for scripts and tests).
+--frames N renders N frames of 1/fps each and exits (for scripts and tests). A draw that would
+write more than --max-pixels pixels (default 1e11) ends the view with the error, before it is
+drawn, as `render` refuses it.
 
 Needs a build with the `viewer` feature: cargo build --release --features viewer";
 
