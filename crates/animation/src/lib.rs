@@ -205,6 +205,12 @@ pub trait Observer {
     fn frame_done(&mut self, _k: u32) -> Result<(), String> {
         Ok(())
     }
+    /// Called between the fixed steps of the particle simulation (the warm-up before frame 0,
+    /// the steps between frames): often, so it should be cheap or look at a clock. An error
+    /// stops the animation with that message and nothing is written, as for `frame_done`.
+    fn simulating(&mut self) -> Result<(), String> {
+        Ok(())
+    }
     /// ffmpeg started as process `pid`; the returned value lives as long as the process is
     /// running (the CLI registers it with its signal handler).
     fn guard_child(&mut self, _pid: u32) -> Box<dyn std::any::Any> {
@@ -332,7 +338,9 @@ pub fn animate<B: Backend>(
             let mut spare = vec![Vec::new(), Vec::new()];
             for k in 0..frames {
                 scene
-                    .render_frame(&mut device, &mut system, &mut buffers, k)
+                    .render_frame_checked(&mut device, &mut system, &mut buffers, k, || {
+                        observer.simulating()
+                    })
                     .map_err(|e| e.to_string())?;
                 // No buffer back: the encoder failed, and its error is the one to report.
                 let Some(mut rgba) = spare.pop().or_else(|| free_rx.recv().ok()) else {

@@ -68,7 +68,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
         &request,
         || {
             crate::backend::create(args.backend)
-                .map(|b| crate::work::Limited::new(b, args.max_pixels))
+                .map(|b| pointillist_scene::work::Limited::new(b, args.max_pixels))
         },
         &mut terminal,
     );

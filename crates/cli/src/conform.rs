@@ -92,6 +92,7 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
         report: args.report.clone(),
         expect: args.expect.clone(),
         behaviours: args.behaviours.clone(),
+        max_pixels: args.max_pixels,
     };
     let defaults = Watch::default();
     let watch = Watch {

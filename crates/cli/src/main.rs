@@ -23,7 +23,6 @@ mod report;
 mod threads;
 #[cfg(feature = "viewer")]
 mod view;
-mod work;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -222,7 +221,8 @@ index.html and the images; nothing else in it is touched.
 A replayer that writes no result for --case-timeout seconds (default 300) is stopped, with every
 process it started, and its case fails; the cases after it are replayed by a new start. The
 replay as a whole is stopped after --timeout seconds (default 3600), and the cases it did not
-reach fail.
+reach fail. pointillist's side refuses a draw that would write more than --max-pixels pixels
+(default 1e11) as `render` does: that case fails, before the draw.
 
 Exit status: 0 when every case matches or ends as the --expect FILE of known differences says,
 1 when a case does not, 2 when the kit itself cannot run.";
@@ -291,6 +291,10 @@ pub struct ConformArgs {
     /// fail (default 3600).
     #[arg(long, value_name = "SECS", value_parser = conform::parse_seconds, allow_negative_numbers = true, conflicts_with = "captures")]
     pub timeout: Option<std::time::Duration>,
+    /// pointillist's side refuses a case's draw that would write more than N pixels (`inf`:
+    /// no limit): that case is an error.
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// The long description of `pointillist animate --help`.
@@ -331,7 +335,9 @@ on standard error says so; --backend picks one), and shown through a blit into t
 Keys: Space pauses and resumes, Right or . steps one frame while paused, R restarts the
 particles, the arrow keys or a drag with the left mouse button orbit, the mouse wheel or + and -
 zoom, Esc or Q quits. The window title shows the particle count and the time a frame takes.
---frames N renders N frames of 1/fps each and exits (for scripts and tests).
+--frames N renders N frames of 1/fps each and exits (for scripts and tests). A draw that would
+write more than --max-pixels pixels (default 1e11) ends the view with the error, before it is
+drawn, as `render` refuses it.
 
 Needs a build with the `viewer` feature: cargo build --release --features viewer";
 
@@ -379,7 +385,7 @@ pub struct AnimateArgs {
     #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
     pub behaviours: Vec<BehaviourSetting>,
     /// Refuse a draw that would write more than N pixels (`inf`: no limit).
-    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
     pub max_pixels: f64,
 }
 
@@ -395,6 +401,10 @@ pub struct ViewArgs {
     /// The backend that draws (default: the GPU when an adapter is found, else the CPU).
     #[arg(long, value_enum, ignore_case = true)]
     pub backend: Option<BackendKind>,
+    /// Refuse a draw that would write more than N pixels (`inf`: no limit): the view ends
+    /// with the error, as `render` does.
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
+    pub max_pixels: f64,
 }
 
 /// Which backend draws.
@@ -450,7 +460,7 @@ pub struct RenderArgs {
     #[arg(long = "behaviour", value_name = "NAME=OPTION", help = BEHAVIOUR_HELP)]
     pub behaviours: Vec<BehaviourSetting>,
     /// Refuse a draw that would write more than N pixels (`inf`: no limit).
-    #[arg(long, value_name = "N", default_value = "1e11", value_parser = work::parse_max_pixels)]
+    #[arg(long, value_name = "N", default_value = "1e11", value_parser = pointillist_scene::work::parse_max_pixels)]
     pub max_pixels: f64,
 }
 

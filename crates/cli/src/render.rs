@@ -19,7 +19,8 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         behaviours: scene.behaviours.with(&args.behaviours),
         ..scene.device_desc()
     };
-    let backend = crate::work::Limited::new(backend::create(args.backend)?, args.max_pixels);
+    let backend =
+        pointillist_scene::work::Limited::new(backend::create(args.backend)?, args.max_pixels);
     let mut device = Device::new(backend, desc)
         .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
     let mut particles = None;

@@ -17,6 +17,7 @@ use pointillist_core::math::Mat4;
 use pointillist_core::{Backend, Device};
 use pointillist_particles::{DrawBuffers, ParticleSystem};
 use pointillist_scene::Scene;
+use pointillist_scene::work::Limited;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -360,12 +361,24 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
     let cannot = |e: pointillist_core::DeviceError| {
         format!("{}: cannot create the device: {e}", args.scene.display())
     };
-    let cpu =
-        || Device::new(backend::create(BackendKind::Cpu)?, scene.device_desc()).map_err(cannot);
+    // Every frame's draws are limited as `render`'s are (`--max-pixels`): one beyond the
+    // limit ends the view with the error instead of freezing the window for hours.
+    let limited = |b| Limited::new(b, args.max_pixels);
+    let cpu = || {
+        Device::new(
+            limited(backend::create(BackendKind::Cpu)?),
+            scene.device_desc(),
+        )
+        .map_err(cannot)
+    };
     let (device, name) = match args.backend {
         Some(BackendKind::Cpu) => (cpu()?, "cpu"),
         Some(BackendKind::Gpu) => (
-            Device::new(backend::create(BackendKind::Gpu)?, scene.device_desc()).map_err(cannot)?,
+            Device::new(
+                limited(backend::create(BackendKind::Gpu)?),
+                scene.device_desc(),
+            )
+            .map_err(cannot)?,
             "gpu",
         ),
         None => {
@@ -374,7 +387,7 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
             match kind {
                 BackendKind::Cpu => (cpu()?, "cpu"),
                 BackendKind::Gpu => match backend::create(BackendKind::Gpu)
-                    .and_then(|b| Device::new(b, scene.device_desc()).map_err(cannot))
+                    .and_then(|b| Device::new(limited(b), scene.device_desc()).map_err(cannot))
                 {
                     Ok(d) => (d, "gpu"),
                     Err(e) => {

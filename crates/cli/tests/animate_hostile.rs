@@ -251,3 +251,76 @@ fn a_draw_beyond_the_work_limit_is_refused_before_it_is_drawn() {
         );
     }
 }
+
+/// `view` draws under the same work limit as `render`: a draw beyond --max-pixels (default
+/// 1e11) ends the view with the one-line error before it is drawn, where the window froze for
+/// hours; --max-pixels sets the limit either way.
+#[test]
+#[cfg(feature = "viewer")]
+fn view_refuses_a_draw_beyond_the_work_limit() {
+    use std::time::{Duration, Instant};
+    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
+        eprintln!("no display: skipped (CI runs the viewer's tests under xvfb-run)");
+        return;
+    }
+    let the_error = |o: &std::process::Output| {
+        assert!(!o.status.success(), "expected a failure: {}", stderr(o));
+        let err = stderr(o);
+        assert!(!err.contains("panicked"), "{err}");
+        err.lines()
+            .find(|l| l.starts_with("error: "))
+            .unwrap_or_else(|| panic!("no error line: {err}"))
+            .to_string()
+    };
+    let dir = TempDir::new("view-work");
+    let scene = heavy_scene(&dir, 200_000);
+    let mut child = common::command()
+        .args([
+            "view",
+            path_arg(&scene),
+            "--frames",
+            "1",
+            "--backend",
+            "cpu",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(60) {
+            let _ = child.kill();
+            panic!("still drawing after a minute");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(
+        the_error(&child.wait_with_output().unwrap()),
+        format!(
+            "error: {}:8:1: draw[0]: this draw of 200000 points would write 2.1e11 pixels, above \
+             the limit of 1e11 a draw (hours of drawing); --max-pixels N raises it",
+            scene.display()
+        )
+    );
+    let small = heavy_scene(&dir, 3);
+    let view = |limit: &str| {
+        pointillist(&[
+            "view",
+            path_arg(&small),
+            "--frames",
+            "1",
+            "--backend",
+            "cpu",
+            "--max-pixels",
+            limit,
+        ])
+    };
+    let err = the_error(&view("3e6"));
+    assert!(
+        err.contains("draw[0]: this draw of 3 points would write 3.1e6 pixels"),
+        "{err}"
+    );
+    let o = view("inf");
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -35,7 +35,7 @@ use pointillist_core::{Device, DeviceDesc, RenderTarget};
 use pointillist_cpu::CpuBackend;
 use pointillist_image::output::{Destination, PendingFile};
 use pointillist_particles::DrawBuffers;
-use pointillist_scene::Scene;
+use pointillist_scene::{Scene, work};
 
 use crate::compare::Drawn;
 use crate::expect::{Expectations, Status};
@@ -161,33 +161,42 @@ pub fn device_caps(device: &DeviceInfo, scene: &Caps) -> Caps {
 }
 
 /// pointillist's image of `scene` (its frame 0 when it moves) on the CPU backend with `caps`
-/// and the device behaviours `behaviours`.
+/// and the device behaviours `behaviours`, without a work limit.
 pub fn render(scene: &Scene, caps: Caps, behaviours: Behaviours) -> Result<Image, String> {
-    let (target, _) = render_target(scene, caps, behaviours, [0.0; 2])?;
+    let (target, _) = render_target(scene, caps, behaviours, [0.0; 2], f64::INFINITY)?;
     Ok(image_of(&target))
 }
 
-/// [`render`], and with `texel_edges` (the case's sprites sample by points, SPEC 7) its
-/// [`nudged`] images.
+/// [`render`] (its draws limited to `max_pixels` pixels each), and with `texel_edges` (the
+/// case's sprites sample by points, SPEC 7) its [`nudged`] images.
 fn drawn(
     scene: &Scene,
     caps: Caps,
     behaviours: Behaviours,
     texel_edges: bool,
+    max_pixels: f64,
 ) -> Result<Drawn, String> {
-    let mut out = Drawn::from(render(scene, caps, behaviours)?);
+    let (target, _) = render_target(scene, caps, behaviours, [0.0; 2], max_pixels)?;
+    let mut out = Drawn::from(image_of(&target));
     if texel_edges {
-        out.nudged = nudged(scene, caps, behaviours)?;
+        out.nudged = nudged(scene, caps, behaviours, max_pixels)?;
     }
     Ok(out)
 }
 
 /// The case's draws under each of `SPRITE_TEXEL_NUDGES`: the images a device may draw within
 /// its sub-texel precision (SPEC 7).
-fn nudged(scene: &Scene, caps: Caps, behaviours: Behaviours) -> Result<Vec<Image>, String> {
+fn nudged(
+    scene: &Scene,
+    caps: Caps,
+    behaviours: Behaviours,
+    max_pixels: f64,
+) -> Result<Vec<Image>, String> {
     SPRITE_TEXEL_NUDGES
         .iter()
-        .map(|&nudge| render_target(scene, caps, behaviours, nudge).map(|(t, _)| image_of(&t)))
+        .map(|&nudge| {
+            render_target(scene, caps, behaviours, nudge, max_pixels).map(|(t, _)| image_of(&t))
+        })
         .collect()
 }
 
@@ -200,12 +209,15 @@ fn image_of(target: &RenderTarget) -> Image {
 }
 
 /// [`render`]'s target, depth buffer included, and the behaviour switches its draws read;
-/// point-sampled sprites nudged by `nudge` texels ([`CpuBackend::with_sprite_texel_nudge`]).
+/// point-sampled sprites nudged by `nudge` texels ([`CpuBackend::with_sprite_texel_nudge`]). A
+/// draw that would write more than `max_pixels` pixels is refused before it is drawn
+/// ([`work::Limited`], `conform --max-pixels`).
 fn render_target(
     scene: &Scene,
     caps: Caps,
     behaviours: Behaviours,
     nudge: [f32; 2],
+    max_pixels: f64,
 ) -> Result<(RenderTarget, BehaviourSet), String> {
     let name = scene.file.display();
     let desc = DeviceDesc {
@@ -213,8 +225,9 @@ fn render_target(
         behaviours,
         ..scene.device_desc()
     };
-    let mut device = Device::new(CpuBackend::with_sprite_texel_nudge(nudge), desc)
-        .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
+    let backend = work::Limited::new(CpuBackend::with_sprite_texel_nudge(nudge), max_pixels);
+    let mut device =
+        Device::new(backend, desc).map_err(|e| format!("{name}: cannot create the device: {e}"))?;
     match export::frame_of(scene, None)? {
         None => scene.replay(&mut device).map_err(|e| e.to_string())?,
         Some(frame) => {
@@ -244,6 +257,10 @@ pub struct Options {
     pub expect: Option<PathBuf>,
     /// Device behaviour switches over each scene's `[behaviour]` (`--behaviour`).
     pub behaviours: Vec<BehaviourSetting>,
+    /// The work limit of pointillist's side (`--max-pixels`, [`work::DEFAULT_MAX_PIXELS`] by
+    /// default): a case with a draw that would write more pixels is an error, found before
+    /// the draw, instead of hours of drawing.
+    pub max_pixels: f64,
 }
 
 /// How a run ended.
@@ -363,19 +380,20 @@ fn caps_note(scene: &Caps, device: &Caps) -> Option<String> {
     })
 }
 
-/// Compares one case with what the device drew and writes its images, none of them over one of
-/// `inputs`; `settings` are the behaviours set over the scene's. The scene is loaded again and
-/// the device's image read here, after its size is checked against the scene's target, so that
-/// one case's images are held at a time.
+/// Compares one case with what the device drew and writes its images into the report folder,
+/// none of them over one of `inputs`; `opts.behaviours` are set over the scene's, and
+/// pointillist's draws are limited to `opts.max_pixels`. The scene is loaded again and the
+/// device's image read here, after its size is checked against the scene's target, so that one
+/// case's images are held at a time.
 fn judge(
     p: &Prepared,
     outcome: Option<&Outcome>,
     device: &DeviceInfo,
-    dir: &Path,
-    settings: &[BehaviourSetting],
+    opts: &Options,
     prefer: &BTreeMap<String, String>,
     inputs: &[PathBuf],
 ) -> CaseReport {
+    let (dir, settings, max_pixels) = (&opts.report, &opts.behaviours, opts.max_pixels);
     let mut r = CaseReport {
         name: p.case.name.clone(),
         scene: p.case.scene.display().to_string(),
@@ -430,22 +448,23 @@ fn judge(
     };
     let caps = device_caps(device, &scene.caps);
     let behaviours = scene.behaviours.with(settings);
-    let (mut ours, depth, read) = match render_target(&scene, caps, behaviours, [0.0; 2]) {
-        Ok((mut t, read)) => (
-            Drawn::from(image_of(&t)),
-            std::mem::take(&mut t.depth),
-            read,
-        ),
-        Err(e) => {
-            r.message = format!("pointillist: {e}");
-            return r;
-        }
-    };
+    let (mut ours, depth, read) =
+        match render_target(&scene, caps, behaviours, [0.0; 2], max_pixels) {
+            Ok((mut t, read)) => (
+                Drawn::from(image_of(&t)),
+                std::mem::take(&mut t.depth),
+                read,
+            ),
+            Err(e) => {
+                r.message = format!("pointillist: {e}");
+                return r;
+            }
+        };
     r.facts = device_facts(&scene, &theirs, depth);
     let mut cmp = compare::compare(&ours, &theirs, tolerance);
     if cmp.first.is_some() && texel_edges {
         // A device may take a neighbouring texel within 2^-6 of its edge (SPEC 7).
-        match nudged(&scene, caps, behaviours) {
+        match nudged(&scene, caps, behaviours, max_pixels) {
             Ok(images) => ours.nudged = images,
             Err(e) => {
                 r.message = format!("pointillist: {e}");
@@ -490,7 +509,7 @@ fn judge(
             tolerance,
             matched: r.status == Status::Match,
         },
-        |b| drawn(&scene, caps, b, texel_edges),
+        |b| drawn(&scene, caps, b, texel_edges, max_pixels),
     );
     if !found.matching.is_empty() {
         let options: Vec<String> = found
@@ -608,8 +627,7 @@ pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
             p,
             captures.outcomes.get(&p.case.name),
             &captures.device,
-            dir,
-            &opts.behaviours,
+            opts,
             &expectations.behaviours,
             &inputs,
         );

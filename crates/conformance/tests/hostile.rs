@@ -30,12 +30,18 @@ fn setup(name: &str) -> PathBuf {
 }
 
 fn run(dir: &Path, expect: Option<PathBuf>) -> Result<Summary, String> {
+    run_limited(dir, expect, pointillist_scene::work::DEFAULT_MAX_PIXELS)
+}
+
+/// [`run`] with pointillist's draws limited to `max_pixels` pixels (`--max-pixels`).
+fn run_limited(dir: &Path, expect: Option<PathBuf>, max_pixels: f64) -> Result<Summary, String> {
     conform(&Options {
         paths: vec![dir.join("scenes")],
         runner: Runner::Captures(dir.join("captures")),
         report: dir.join("report"),
         expect,
         behaviours: Vec::new(),
+        max_pixels,
     })
 }
 
@@ -230,5 +236,75 @@ fn the_report_never_replaces_a_file_a_scene_reads() {
         "{m}"
     );
     assert_eq!(fs::read(&image).unwrap(), vertex);
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// pointillist's side of a case is drawn under the work limit of `render` (`conform
+/// --max-pixels`, 1e11 pixels a draw by default): a case with a draw beyond it is an error for
+/// that case, naming the draw and found before it is drawn, where it drew for hours; the other
+/// cases are judged as before.
+#[test]
+fn a_case_beyond_the_work_limit_is_an_error_for_that_case_not_hours() {
+    use std::sync::mpsc;
+    use std::time::Duration;
+    let dir = setup("work");
+    let caps = dir.join("captures");
+    // A device whose points reach 8192 pixels, so that the scene's sizes are not clamped.
+    fs::write(
+        caps.join("device.txt"),
+        DEVICE_TXT.replace("max_point_size=64", "max_point_size=8192"),
+    )
+    .unwrap();
+    // 200,000 points of size 1024 over a 1024x1024 target: 2.1e11 pixel writes.
+    let vertex: Vec<u8> = [512f32, 512.0, 0.5, 1.0]
+        .iter()
+        .flat_map(|f| f.to_le_bytes())
+        .chain(0x08FF_FFFFu32.to_le_bytes())
+        .collect();
+    fs::write(dir.join("scenes/heavy.bin"), vertex.repeat(200_000)).unwrap();
+    let heavy = dir.join("scenes/heavy.toml");
+    fs::write(
+        &heavy,
+        "format = 1\n[target]\nwidth = 1024\nheight = 1024\n[states]\nPOINTSIZE = 1024.0\n\
+         POINTSIZE_MAX = 8192.0\n[[draw]]\nfvf = \"XYZRHW | DIFFUSE\"\nfile = \"heavy.bin\"\n",
+    )
+    .unwrap();
+    for (name, w, h) in [("heavy", 1024, 1024), ("point", 8, 4)] {
+        let black = vec![0u8; w * h * 4];
+        let png = caps.join(format!("{name}.png"));
+        pointillist_image::write_png_atomic(&png, w as u32, h as u32, &black).unwrap();
+    }
+    fs::write(caps.join("results.txt"), "point\tok\nheavy\tok\n").unwrap();
+    let judged = |max_pixels: f64| {
+        let (tx, rx) = mpsc::channel();
+        let d = dir.clone();
+        std::thread::spawn(move || {
+            let _ = tx.send(run_limited(&d, None, max_pixels));
+        });
+        let summary = rx
+            .recv_timeout(Duration::from_secs(60))
+            .expect("still drawing after a minute")
+            .unwrap();
+        (
+            summary.counts,
+            message(&dir, "heavy"),
+            message(&dir, "point"),
+        )
+    };
+    let says = |limit: &str| {
+        format!(
+            "pointillist: {}:8:1: draw[0]: this draw of 200000 points would write 2.1e11 pixels, \
+             above the limit of {limit} a draw (hours of drawing); --max-pixels N raises it",
+            heavy.display()
+        )
+    };
+    let (counts, m, point) = judged(pointillist_scene::work::DEFAULT_MAX_PIXELS);
+    assert_eq!(counts, [0, 0, 1, 1], "{m}\n{point}");
+    assert_eq!(m, says("1e11"));
+    // The point's image (one pixel) is judged: it differs from the black capture.
+    assert!(point.contains("pixels differ"), "{point}");
+    let (counts, m, _) = judged(1e5);
+    assert_eq!(counts, [0, 0, 1, 1]);
+    assert_eq!(m, says("1e5"));
     let _ = fs::remove_dir_all(&dir);
 }

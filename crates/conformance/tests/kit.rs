@@ -302,6 +302,7 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
         report: report.clone(),
         expect: Some(expect),
         behaviours: Vec::new(),
+        max_pixels: pointillist_scene::work::DEFAULT_MAX_PIXELS,
     })
     .unwrap();
     assert_eq!(summary.cases, 5);
@@ -439,6 +440,7 @@ fn a_device_taking_another_behaviour_option_is_classified() {
             report: dir.join(report),
             expect: Some(file),
             behaviours: Vec::new(),
+            max_pixels: pointillist_scene::work::DEFAULT_MAX_PIXELS,
         })
         .unwrap()
     };
@@ -487,6 +489,7 @@ fn a_device_taking_another_behaviour_option_is_classified() {
         report: dir.join("set"),
         expect: None,
         behaviours: vec!["specular_fog=clamped".parse().unwrap()],
+        max_pixels: pointillist_scene::work::DEFAULT_MAX_PIXELS,
     })
     .unwrap();
     assert_eq!(summary.counts, [2, 0, 0, 0]);
@@ -533,6 +536,7 @@ fn a_device_defaulting_pointsize_max_to_its_caps_is_classified() {
         report: dir.join("report"),
         expect: Some(expect),
         behaviours: Vec::new(),
+        max_pixels: pointillist_scene::work::DEFAULT_MAX_PIXELS,
     })
     .unwrap();
     assert_eq!(summary.counts, [0, 1, 0, 0]);
@@ -587,6 +591,7 @@ fn a_replayer_that_stops_is_restarted_after_the_case() {
         report: dir.join("report"),
         expect: None,
         behaviours: Vec::new(),
+        max_pixels: pointillist_scene::work::DEFAULT_MAX_PIXELS,
     })
     .unwrap();
     assert_eq!(summary.counts, [2, 0, 0, 1]);
@@ -607,6 +612,7 @@ fn a_replayer_that_stops_is_restarted_after_the_case() {
         report: dir.join("report2"),
         expect: None,
         behaviours: Vec::new(),
+        max_pixels: pointillist_scene::work::DEFAULT_MAX_PIXELS,
     })
     .unwrap_err();
     assert!(e.contains("wrote no device description"), "{e}");

@@ -133,6 +133,7 @@ fn streams_and_captures_are_never_held_whole() {
             report: dir.join("report"),
             expect: None,
             behaviours: Vec::new(),
+            max_pixels: pointillist_scene::work::DEFAULT_MAX_PIXELS,
         })
         .unwrap()
     });

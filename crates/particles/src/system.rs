@@ -234,16 +234,39 @@ impl ParticleSystem {
     /// (nothing could see where they went), so a long advance, such as a warm-up, costs less
     /// than as many [`ParticleSystem::step`]s and leaves the same state.
     pub fn advance_to(&mut self, time: f64) -> u64 {
+        let Ok(taken) = self.advance_to_checked(time, || Ok::<(), std::convert::Infallible>(()));
+        taken
+    }
+
+    /// [`ParticleSystem::advance_to`], with `check` called before each step (and once more
+    /// after the last), so that a long advance, such as a warm-up of an hour of simulated
+    /// time, can be stopped: the first error `check` returns ends the advance and is returned,
+    /// and the system is then [reset](ParticleSystem::reset) to time 0 (a half-taken advance
+    /// would have left particles that die before its end unmoved). `check` is called often
+    /// (each step is a pass over the particles): keep it cheap, or let it look at a clock.
+    pub fn advance_to_checked<E>(
+        &mut self,
+        time: f64,
+        mut check: impl FnMut() -> Result<(), E>,
+    ) -> Result<u64, E> {
         let h = self.step_f64();
         let mut taken = 0;
         while (self.steps + taken + 1) as f64 * h <= time + h * 1e-3 {
             taken += 1;
         }
         for k in 0..taken {
+            if let Err(e) = check() {
+                self.reset();
+                return Err(e);
+            }
             self.step_before(taken - 1 - k);
         }
+        if let Err(e) = check() {
+            self.reset();
+            return Err(e);
+        }
         self.target_time = self.target_time.max(time);
-        taken
+        Ok(taken)
     }
 
     /// Advances the clock by `dt` seconds, taking the fixed steps that fit (see

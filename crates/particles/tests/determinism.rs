@@ -162,3 +162,44 @@ fn a_long_advance_leaves_what_single_steps_leave() {
     }
     assert!(va == vb, "the advance and the steps differ");
 }
+
+/// An advance that is checked between its steps leaves what the plain advance leaves when no
+/// check fails; when one fails (a signal, in Python), the advance stops there with that error
+/// and the system is back at time 0, never half-advanced, and then advances as a new one does.
+#[test]
+fn a_checked_advance_stops_at_the_first_failed_check_and_leaves_the_system_reset() {
+    let mut plain = ParticleSystem::new(config(5)).unwrap();
+    let mut checked = ParticleSystem::new(config(5)).unwrap();
+    let mut checks = 0;
+    assert_eq!(plain.advance_to(2.0), 120);
+    let taken = checked.advance_to_checked(2.0, || {
+        checks += 1;
+        Ok::<(), String>(())
+    });
+    assert_eq!(taken, Ok(120));
+    // Before each step and after the last.
+    assert_eq!(checks, 121);
+    let (mut vp, mut vc) = (Vec::new(), Vec::new());
+    plain.write_vertices(&mut vp);
+    checked.write_vertices(&mut vc);
+    assert!(vp == vc, "the checked advance differs");
+
+    let mut stopped = ParticleSystem::new(config(5)).unwrap();
+    let mut checks = 0;
+    let e = stopped.advance_to_checked(2.0, || {
+        checks += 1;
+        if checks > 50 {
+            Err("interrupted")
+        } else {
+            Ok(())
+        }
+    });
+    assert_eq!(e, Err("interrupted"));
+    assert_eq!((stopped.steps(), stopped.len()), (0, 0));
+    assert_eq!(stopped.advance_to(2.0), 120);
+    stopped.write_vertices(&mut vc);
+    assert!(
+        vp == vc,
+        "the system after a stopped advance differs from a new one"
+    );
+}

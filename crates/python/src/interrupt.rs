@@ -30,6 +30,38 @@ fn check_signals() -> Result<(), DeviceError> {
     })
 }
 
+/// Python's signal handlers run at most every [`FAST`] (20 ms), for loops whose turns are too
+/// short to take the GIL each time: the fixed steps of a particle simulation (a warm-up of an
+/// hour of simulated time is hundreds of thousands of them).
+pub struct Every {
+    last: Instant,
+}
+
+impl Every {
+    /// The first check comes 20 ms from now.
+    pub fn new() -> Every {
+        Every {
+            last: Instant::now(),
+        }
+    }
+
+    /// Runs the signal handlers when 20 ms have passed since the last time; an exception one
+    /// raises is kept for [`detach`] and `Err("interrupted")` returned.
+    pub fn check(&mut self) -> Result<(), String> {
+        if self.last.elapsed() < FAST {
+            return Ok(());
+        }
+        self.last = Instant::now();
+        check_signals().map_err(|e| e.to_string())
+    }
+}
+
+impl Default for Every {
+    fn default() -> Every {
+        Every::new()
+    }
+}
+
 /// `f` with the GIL released; when a signal handler raised an exception during it (draws on
 /// an [`Interruptible`] backend check between pieces), that exception instead of `f`'s
 /// result.

@@ -1,13 +1,18 @@
-"""Signals, threads and memory: Ctrl-C ends long native calls within about a second (even the
-first call of a process), two threads on one Device wait for each other instead of deadlocking,
-and reading a target back does not copy it. Each case runs in its own Python process, so that a
-hang or an abort fails the case instead of the suite."""
+"""Signals, threads, work and memory: Ctrl-C ends long native calls within about a second (even
+the first call of a process, and a long particle warm-up), two threads on one Device wait for
+each other instead of deadlocking, a scene's draw beyond the work limit is refused before it is
+drawn, and reading a target back does not copy it. Each case that could hang or abort runs in
+its own Python process, so that it fails the case instead of the suite."""
 
+import math
 import subprocess
 import sys
 import textwrap
 
 import numpy as np
+import pytest
+
+import pointillist
 
 # A draw of big blended points that takes far more than a second (minutes, uninterrupted):
 # POINTS squares of SIDE pixels over the whole target.
@@ -95,7 +100,8 @@ def test_ctrl_c_ends_the_first_render_scene_of_a_process(tmp_path):
     scene = slow_scene(tmp_path)
     code = CTRL_C + f"""
 import pointillist
-interrupted(lambda: pointillist.render_scene({str(scene)!r}))
+# The scene writes 2.1e11 pixels, above the default work limit: lifted to draw it.
+interrupted(lambda: pointillist.render_scene({str(scene)!r}, max_pixels=float("inf")))
 """
     assert_interrupted(*run_python(code))
 
@@ -114,6 +120,105 @@ img = dev.read_target()
 assert img[{SIDE // 2}, {SIDE // 2}, 0] > 0, img[{SIDE // 2}, {SIDE // 2}]
 """
     assert_interrupted(*run_python(code))
+
+
+def warm_up_scene(tmp_path):
+    """A scene whose particles are warmed up for an hour of simulated time (216,000 fixed
+    steps of 1/60 s, half a million particles alive): minutes before anything is drawn."""
+    scene = tmp_path / "warm.toml"
+    scene.write_text(
+        "format = 1\n[target]\nwidth = 32\nheight = 32\n"
+        "[animation]\nframes = 3\nwarmup = 3600\n"
+        "[[emitter]]\nrate = 100000\nlifetime = [5, 5]\nmax_particles = 600000\n"
+        "velocity = { min = [-1, -1, 0], max = [1, 1, 0] }\n"
+    )
+    return scene
+
+
+def test_ctrl_c_ends_a_long_particle_warm_up(tmp_path):
+    # The warm-up ran to its end (minutes) before the first draw checked for signals.
+    scene = warm_up_scene(tmp_path)
+    code = CTRL_C + f"""
+import pointillist
+interrupted(lambda: pointillist.render_scene({str(scene)!r}))
+"""
+    assert_interrupted(*run_python(code, timeout=30))
+
+
+def test_ctrl_c_ends_the_warm_up_of_an_animation_leaving_nothing(tmp_path):
+    scene = warm_up_scene(tmp_path)
+    out = tmp_path / "frames"
+    out.mkdir()
+    code = CTRL_C + f"""
+import os, pointillist
+interrupted(lambda: pointillist.animate({str(scene)!r}, {str(out / "f_%02d.png")!r}))
+print(os.listdir({str(out)!r}))
+"""
+    rc, stdout, err = run_python(code, timeout=30)
+    assert_interrupted(rc, stdout, err)
+    assert stdout.splitlines()[1] == "[]", stdout
+
+
+def heavy_scene(tmp_path, points, side=64):
+    """POINTS points of size SIDE over a SIDE x SIDE target: each covers every pixel."""
+    v = np.zeros(points, [("xyzrhw", "<f4", 4), ("diffuse", "<u4")])
+    v["xyzrhw"] = (side / 2, side / 2, 0.5, 1.0)
+    v["diffuse"] = 0x08FFFFFF
+    v.tofile(tmp_path / f"heavy{points}.bin")
+    scene = tmp_path / f"heavy{points}.toml"
+    scene.write_text(
+        f"format = 1\n[target]\nwidth = {side}\nheight = {side}\n[states]\n"
+        f"POINTSIZE = {float(side)}\nPOINTSIZE_MAX = 8192.0\n[animation]\nframes = 2\n"
+        f'[[draw]]\nfvf = "XYZRHW | DIFFUSE"\nfile = "heavy{points}.bin"\n'
+    )
+    return scene
+
+
+def test_a_scene_draw_beyond_max_pixels_is_refused_before_it_is_drawn(tmp_path):
+    # `pointillist render --max-pixels`'s limit, from Python: the default (1e11 pixels a draw)
+    # refuses the 2.1e11 pixels of the slow scene at once, where it drew for minutes; the
+    # error names the draw as the CLI's does and what raises the limit.
+    scene = slow_scene(tmp_path)
+    code = f"""
+import time, pointillist
+start = time.monotonic()
+try:
+    pointillist.render_scene({str(scene)!r})
+except pointillist.SceneError as e:
+    print(f"{{time.monotonic() - start:.2f}}")
+    print(e)
+"""
+    rc, out, err = run_python(code, timeout=60)
+    assert rc == 0, err
+    took, message = out.splitlines()
+    assert float(took) < 10, out
+    assert message == (
+        f"{scene}:11:1: draw[0]: this draw of 200000 points would write 2.1e11 pixels, above "
+        "the limit of 1e11 a draw (hours of drawing); max_pixels=N raises it"
+    ), message
+    # A small draw under a lower limit: refused by render_scene and animate alike (no file
+    # written), drawn under a higher one or none.
+    small = heavy_scene(tmp_path, 3)
+    for call in [
+        lambda: pointillist.render_scene(small, 0, max_pixels=1e4),
+        lambda: pointillist.animate(small, tmp_path / "out.png", max_pixels=1e4),
+    ]:
+        with pytest.raises(pointillist.SceneError) as info:
+            call()
+        assert "draw[0]: this draw of 3 points would write 1.2e4 pixels, above the limit " \
+            "of 1e4 a draw (hours of drawing); max_pixels=N raises it" in str(info.value)
+    assert not (tmp_path / "out.png").exists()
+    for limit in [1.3e4, 12288, math.inf, None]:
+        img = pointillist.render_scene(small, 0, max_pixels=limit)
+        assert img[0, 0, 0] > 0, limit
+    pointillist.animate(small, tmp_path / "out.png", max_pixels=1.3e4)
+    assert (tmp_path / "out.png").exists()
+    for bad in [0, 0.5, -1, math.nan, -math.inf]:
+        with pytest.raises(ValueError, match="max_pixels .* is not a number of pixels of at "
+                           "least 1"):
+            pointillist.render_scene(small, max_pixels=bad)
+    with pytest.raises(TypeError, match="max_pixels must be a number of pixels"):
+        pointillist.render_scene(small, max_pixels="lots")
 
 
 def test_two_threads_on_one_device_wait_for_each_other():

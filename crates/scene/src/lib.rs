@@ -35,6 +35,7 @@ pub mod case;
 mod error;
 mod parse;
 mod reader;
+pub mod work;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -641,12 +642,29 @@ impl Scene {
         buffers: &mut DrawBuffers,
         frame: u32,
     ) -> Result<(), SceneError> {
+        self.render_frame_checked(device, system, buffers, frame, || Ok(()))
+    }
+
+    /// [`Scene::render_frame`], with `check` called between the simulation's fixed steps
+    /// ([`ParticleSystem::advance_to_checked`]): an error it returns (a signal, in Python) ends
+    /// the frame before anything is drawn, as that message, and leaves `system` reset. A long
+    /// warm-up is then as interruptible as a draw.
+    pub fn render_frame_checked<B: Backend>(
+        &self,
+        device: &mut Device<B>,
+        system: &mut ParticleSystem,
+        buffers: &mut DrawBuffers,
+        frame: u32,
+        check: impl FnMut() -> Result<(), String>,
+    ) -> Result<(), SceneError> {
         let t = self.animation.sim_time(frame);
         let h = f64::from(self.animation.time_step);
         if system.time() > t + h * 1e-3 {
             system.reset();
         }
-        system.advance_to(t);
+        system
+            .advance_to_checked(t, check)
+            .map_err(|e| SceneError::unplaced(&self.file, e))?;
         let view = self
             .animation
             .view_at(f64::from(frame) / f64::from(self.animation.fps))

@@ -143,18 +143,26 @@ def points(
 render_scene = _native.render_scene
 
 
-def animate(path, out, *, frames=None, backend="cpu", behaviour=None):
+def animate(path, out, *, frames=None, backend="cpu", behaviour=None, max_pixels=1e11):
     """Render every frame of a scene's ``[animation]`` to ``out``, as ``pointillist animate``
     does: an animated GIF (``.gif``), an APNG of the exact RGBA bytes (``.png``/``.apng``), a
     numbered PNG sequence (a name with ``%d``, e.g. ``frames/f_%04d.png``) or H.264 through
     ffmpeg (``.mp4``), byte for byte what the command line writes. ``frames`` renders only the
     first ``frames`` frames. ``behaviour`` (a dict such as ``{"minimum_size": "one_pixel"}``)
     sets device behaviour switches over the scene's ``[behaviour]``, as ``--behaviour`` does.
+    ``max_pixels`` is the work limit of ``--max-pixels``: a draw that would write more pixels
+    (1e11 by default; ``math.inf`` lifts it) is refused before it is drawn.
     The output (every file of a sequence) is written whole or not at all: errors raise
     :class:`SceneError` with the command line's message, and Ctrl-C (``KeyboardInterrupt``,
-    checked between frames) leaves nothing behind."""
+    checked between the simulation's steps, between frames and between the pieces of a draw)
+    leaves nothing behind."""
     return _native.animate(
-        str(path), str(out), frames=frames, backend=backend, behaviour=behaviour
+        str(path),
+        str(out),
+        frames=frames,
+        backend=backend,
+        behaviour=behaviour,
+        max_pixels=max_pixels,
     )
 
 

@@ -51,9 +51,15 @@ def points(
     """One point sprite per row of ``x, y``; the ``(height, width, 4)`` uint8 RGBA image."""
 
 def render_scene(
-    path: Union[str, os.PathLike[str]], frame: Optional[int] = None, *, backend: Backend = "cpu"
+    path: Union[str, os.PathLike[str]],
+    frame: Optional[int] = None,
+    *,
+    backend: Backend = "cpu",
+    behaviour: Optional[dict[str, str]] = None,
+    max_pixels: float = 1e11,
 ) -> Image:
-    """The target of a scene file, as ``pointillist render`` writes it."""
+    """The target of a scene file, as ``pointillist render`` writes it; a draw beyond
+    ``max_pixels`` pixels is refused (SceneError) before it is drawn."""
 
 def animate(
     path: Union[str, os.PathLike[str]],
@@ -61,6 +67,8 @@ def animate(
     *,
     frames: Optional[int] = None,
     backend: Backend = "cpu",
+    behaviour: Optional[dict[str, str]] = None,
+    max_pixels: float = 1e11,
 ) -> None:
     """Every frame of a scene's animation to a GIF, APNG, PNG sequence or MP4, as
     ``pointillist animate`` writes it; whole or not at all (SceneError, KeyboardInterrupt)."""

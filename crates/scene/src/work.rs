@@ -1,6 +1,7 @@
-//! The work limit of `render` and `animate` (`--max-pixels`): before a draw is drawn, the pixels
-//! its points cover are counted, and a draw that would write more than the limit is refused in
-//! one line instead of drawing for hours (16 million points of size 4096 on a 4096x4096 target
+//! The work limit of a scene's draws (`render`, `animate`, `view` and `conform --max-pixels`,
+//! Python's `render_scene` and `animate` `max_pixels=`): before a draw is drawn, the pixels its
+//! points cover are counted, and a draw that would write more than the limit is refused in one
+//! line instead of drawing for hours (16 million points of size 4096 on a 4096x4096 target
 //! are 2.8e14 pixel writes). The count is exact (each point's covered square inside the
 //! viewport, as the per-point stage computes it, before depth, alpha and user clip planes), and
 //! taken only when the draw's bound (its points at the largest size the clamp allows) is above
@@ -11,12 +12,19 @@ use pointillist_core::point::{PointSetup, screen_distance};
 use pointillist_core::{Backend, DeviceError, DrawSetup, RenderTarget};
 use rayon::prelude::*;
 
-/// Parses `--max-pixels`: a number of pixels, at least 1 (`1e12`, or `inf` for no limit). Its
-/// default, 1e11 pixel writes in one draw, is far beyond an interactive render (the CPU backend
-/// writes in the order of 1e9 a second).
+/// The default limit: 1e11 pixel writes in one draw, far beyond an interactive render (the CPU
+/// backend writes in the order of 1e9 a second: minutes to hours).
+pub const DEFAULT_MAX_PIXELS: f64 = 1e11;
+
+/// Whether `n` is a limit: a number of pixels of at least 1 (infinity for none; NaN is not).
+pub fn is_max_pixels(n: f64) -> bool {
+    n >= 1.0
+}
+
+/// Parses `--max-pixels`: a number of pixels, at least 1 (`1e12`, or `inf` for no limit).
 pub fn parse_max_pixels(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
-        Ok(n) if n >= 1.0 => Ok(n),
+        Ok(n) if is_max_pixels(n) => Ok(n),
         _ => Err(format!(
             "`{text}` is not a number of pixels of at least 1 (like 1e12, or inf for no limit)"
         )),
@@ -27,12 +35,25 @@ pub fn parse_max_pixels(text: &str) -> Result<f64, String> {
 pub struct Limited<B> {
     inner: B,
     max: f64,
+    raise: &'static str,
 }
 
 impl<B> Limited<B> {
-    /// `inner` with draws limited to `max` pixels.
+    /// `inner` with draws limited to `max` pixels; the error of an over-limit draw says that
+    /// `--max-pixels N` raises the limit.
     pub fn new(inner: B, max: f64) -> Limited<B> {
-        Limited { inner, max }
+        Limited::saying(inner, max, "--max-pixels N")
+    }
+
+    /// [`Limited::new`] whose error names `raise` (such as `max_pixels=N`) as what raises the
+    /// limit.
+    pub fn saying(inner: B, max: f64, raise: &'static str) -> Limited<B> {
+        Limited { inner, max, raise }
+    }
+
+    /// The backend inside.
+    pub fn into_inner(self) -> B {
+        self.inner
     }
 }
 
@@ -116,8 +137,8 @@ impl<B: Backend> Backend for Limited<B> {
             let points = vertices.len() / draw.points.layout().stride;
             return Err(DeviceError::Backend(format!(
                 "this draw of {points} points would write {:.1e} pixels, above the limit of {:e} \
-                 a draw (hours of drawing); --max-pixels N raises it",
-                pixels as f64, self.max
+                 a draw (hours of drawing); {} raises it",
+                pixels as f64, self.max, self.raise
             )));
         }
         self.inner.draw_points(draw, vertices)
