@@ -39,8 +39,8 @@ pub(super) struct DrawContext<'a> {
     pub(super) textures: [Option<StageTexture<'a>>; MAX_STAGES],
     pub(super) vertices: &'a [u8],
     /// The vectors the wide spans run on: [`LanesLevel::detect`]'s, or the baseline's on the
-    /// portable level; none in a fogged draw (the spans do not fog). Tests set the portable
-    /// twin, or none to fill every MODULATE sprite pixel by pixel.
+    /// portable level. Tests set the portable twin, or none to fill every MODULATE sprite
+    /// pixel by pixel.
     pub(super) spans: Option<LanesLevel>,
     /// What a sprite's `(u, v)` is moved by ([`CpuBackend::with_sprite_texel_nudge`]), in
     /// texture coordinates: `[0, 0]` but for the conformance kit's nudged draws.
@@ -107,9 +107,8 @@ impl<'a> DrawContext<'a> {
             }
             state.textures[i].as_deref().map(|texture| {
                 let sampler = SamplerDesc::from_states(&state.sampler_states[i]);
-                // The wide spans read the single MODULATE stage, unfogged.
-                let spans =
-                    i == 0 && matches!(shading, Shading::Modulate(_)) && pixel.fog.is_none();
+                // The wide spans read the single MODULATE stage.
+                let spans = i == 0 && matches!(shading, Shading::Modulate(_));
                 StageTexture::new(texture, sampler, stage.texcoord_set, spans)
             })
         });
@@ -136,7 +135,7 @@ impl<'a> DrawContext<'a> {
             blend: draw.blend,
             textures,
             vertices,
-            spans: Some(spans).filter(|_| draw.pixel.fog.is_none()),
+            spans: Some(spans),
             sprite_nudge: [0.0; 2],
         };
         if nudge != [0.0; 2] && sprite_texel_edges(draw) {

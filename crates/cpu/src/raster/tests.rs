@@ -297,8 +297,9 @@ fn spec_5_2_spans_take_mipmapped_large_and_sequential_sprites() {
 }
 
 /// Fogged textured sprites (SPEC 9.1 after SPEC 5.1's single MODULATE stage): binned with their
-/// fog factor from the per-point stage, filled pixel by pixel, they give the general path's
-/// pixels, binned or point after point, on every blend family, the fog visibly changing them.
+/// fog factor from the per-point stage, filled through the wide spans on every level this
+/// machine has or pixel by pixel, they give the general path's pixels, binned or point after
+/// point, on every blend family, the fog visibly changing them.
 #[test]
 fn spec_9_1_fogged_sprites_match_the_general_path() {
     let mut rng = Rng(0xF06_0000_0000_0091);
