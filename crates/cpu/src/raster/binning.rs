@@ -1,9 +1,9 @@
-//! Binning: what a bin keeps of a point ([`Binned`]: a solid point, a sprite, or any point to
-//! run through the per-point stage again), and chunks of vertices binned by the bands their
+//! Binning: what a bin keeps of a point ([`Binned`]: a solid point, a sprite, a fogged sprite,
+//! or any point to run through the per-point stage again), and chunks of vertices binned by the bands their
 //! points touch, in vertex order (SPEC 5.5).
 //!
 //! Contract: an entry fills exactly the pixels the point it was made from fills; the bins of a
-//! draw stay within the draw's scratch bytes ([`super::DrawContext::scratch`]) and are kept
+//! draw stay within the draw's scratch bytes ([`DrawContext::scratch`]) and are kept
 //! from draw to draw within [`RETAINED_BIN_BYTES`].
 
 use pointillist_core::pixel::alpha_test_passes;

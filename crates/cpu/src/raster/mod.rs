@@ -3,7 +3,7 @@
 //!
 //! [`draw`] resolves the states once per draw ([`context`]) and makes three decisions: the
 //! blend family ([`blending`]: replace, additive, source-alpha, general), what a bin keeps of a
-//! point ([`binning`]: a solid point, a sprite, or any point), and whether the draw runs point
+//! point ([`binning`]: a solid point, a sprite, a fogged sprite, or any point), and whether the draw runs point
 //! after point on the calling thread or binned in bands ([`bands`]). The modules, each
 //! importing only those listed after it:
 //!

@@ -14,7 +14,9 @@
 //! loads, or gathered) stay in registers while the next pixel rows read them, and each pixel is
 //! then the vertical lerp, the modulate, the 8-bit quantization, and the alpha and depth tests,
 //! the blend and the channel mask ([`write_span`]). Point sampling reads whole texels, so its
-//! modulate and quantization are one integer product of the packed bytes ([`Lanes::modulate`]).
+//! modulate and quantization are one integer product of the packed bytes ([`Lanes::modulate`]);
+//! in a fogged draw (its own instantiation) the stage is in floats and SPEC 9.1's fog blend comes
+//! before the quantization.
 //! A sprite whose indices leave the margin (edges snapped outside the square) is left to the
 //! per-pixel fill, as are those the spans do not take (see [`super::fills`]).
 //!
