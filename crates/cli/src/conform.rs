@@ -83,6 +83,11 @@ pub fn run_conform(args: &ConformArgs) -> ExitCode {
         Runner::Command(cmd.clone())
     } else if let Some(dir) = &args.captures {
         Runner::Captures(dir.clone())
+    } else if let Some(dll) = &args.d3d9 {
+        Runner::WineD3d9 {
+            replayer: args.replayer.clone(),
+            dll: dll.clone(),
+        }
     } else {
         Runner::Wine(args.replayer.clone())
     };

@@ -214,6 +214,9 @@ replayed by one of:
   --runner-cmd CMD    any command taking the replayer's arguments OUTDIR @LIST, run in
                       REPORT/calls
   --captures DIR      a folder a replayer filled earlier (a Windows machine with real hardware)
+With --runner wine, --d3d9 DLL loads that d3d9.dll (a DXVK build) instead of Wine's: it and the
+replayer are copied into REPORT/d3d9, Wine is given WINEDLLOVERRIDES d3d9=n, and, unless set
+already, VK_ICD_FILENAMES names lavapipe's ICD and DXVK_CONFIG an honest adapter description.
 pointillist renders each scene with the device's MaxPointSize, D3DFVFCAPS_PSIZE and
 CLIPPLANESCALEDPOINTS, and compares with SPEC 7's tolerances. REPORT receives report.json,
 index.html and the images; nothing else in it is touched.
@@ -232,6 +235,8 @@ const CONFORM_EXAMPLES: &str = "\
 Examples:
   pointillist conform crates/conformance/cases --runner wine --report report/ \\
       --expect crates/conformance/expect/wine.toml
+  pointillist conform crates/conformance/cases --runner wine --d3d9 build/src/d3d9/d3d9.dll \\
+      --report report/ --expect crates/conformance/expect/dxvk-2.6.2.toml
   pointillist conform scenes/ring.toml --captures windows-captures/ --report report/";
 
 /// Arguments of `pointillist export-calls`.
@@ -274,6 +279,11 @@ pub struct ConformArgs {
     /// With --runner wine: the replayer to run instead of building one.
     #[arg(long, value_name = "EXE", requires = "runner")]
     pub replayer: Option<PathBuf>,
+    /// With --runner wine: load this d3d9.dll (a DXVK build, say) instead of Wine's own: it
+    /// is copied beside the replayer into REPORT/d3d9, with WINEDLLOVERRIDES d3d9=n,
+    /// VK_ICD_FILENAMES lavapipe's and DXVK_CONFIG an honest adapter name unless set.
+    #[arg(long, value_name = "DLL", requires = "runner")]
+    pub d3d9: Option<PathBuf>,
     /// The report folder.
     #[arg(long, value_name = "DIR")]
     pub report: PathBuf,

@@ -16,6 +16,7 @@
 pub mod calls;
 pub mod classify;
 pub mod compare;
+pub mod dll;
 pub mod expect;
 pub mod export;
 pub mod report;

@@ -76,6 +76,11 @@ struct JsonDevice<'a> {
     clip_tl_verts: bool,
     w_fog: bool,
     max_active_lights: u32,
+    /// With `conform --d3d9`: the DLL's name and version, and the Vulkan device under it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    d3d9_dll: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vulkan_device: Option<&'a str>,
 }
 
 #[derive(Serialize)]
@@ -112,6 +117,8 @@ pub fn json(
             clip_tl_verts: device.clip_tl_verts,
             w_fog: device.w_fog,
             max_active_lights: device.max_active_lights,
+            d3d9_dll: device.get("d3d9_dll"),
+            vulkan_device: device.get("vulkan_device"),
         },
         behaviours,
         cases: cases
@@ -336,6 +343,9 @@ pub fn html(
     }
     for (key, label) in [
         ("wine_version", "Wine"),
+        ("d3d9_dll", "d3d9.dll"),
+        ("dxvk_version", "DXVK (its log)"),
+        ("vulkan_device", "Vulkan device"),
         ("driver", "Driver"),
         ("driver_version", "Driver version"),
     ] {

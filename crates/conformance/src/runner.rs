@@ -34,6 +34,15 @@ pub enum Runner {
     /// The replayer under Wine (`xvfb-run -a wine replayer.exe ...`): the given build, or one
     /// built with [`MINGW_CC`] into the user's cache folder when `None`.
     Wine(Option<PathBuf>),
+    /// The replayer under Wine with another d3d9.dll (a DXVK build, say): the replayer as in
+    /// [`Runner::Wine`], and the DLL, both copied into the run's own folder `REPORT/d3d9`
+    /// ([`crate::dll`]).
+    WineD3d9 {
+        /// The replayer to run, or `None` for the cached build.
+        replayer: Option<PathBuf>,
+        /// The d3d9.dll to load.
+        dll: PathBuf,
+    },
     /// A shell command given the replayer's arguments (`OUTDIR @list.txt`), run in the folder
     /// of the call streams.
     Command(String),
@@ -50,6 +59,7 @@ impl Runner {
                  the arguments OUTDIR @LIST)"
                     .into(),
             ),
+            Runner::WineD3d9 { dll, .. } => crate::dll::check(dll),
             _ => Ok(()),
         }
     }
@@ -445,8 +455,9 @@ fn clear_outputs(out_dir: &Path, names: &[String], inputs: &[PathBuf]) -> Result
 struct Replayer<'a> {
     command: &'a dyn Fn() -> Command,
     label: String,
-    /// Variables set where the caller's environment does not set them.
-    env: &'a [(&'a str, &'a str)],
+    /// Variables `(name, value, forced)`: set where the caller's environment does not set
+    /// them, or always when forced.
+    env: Vec<(String, String, bool)>,
 }
 
 /// Runs `replayer` in `calls_dir` until every case in `names` has a result, writing into
@@ -527,8 +538,8 @@ fn replay(
             .stderr(log_out);
         #[cfg(unix)]
         std::os::unix::process::CommandExt::process_group(&mut command, 0);
-        for (k, v) in replayer.env {
-            if std::env::var_os(k).is_none() {
+        for (k, v, forced) in &replayer.env {
+            if *forced || std::env::var_os(k).is_none() {
                 command.env(k, v);
             }
         }
@@ -618,51 +629,133 @@ pub fn run(
             let replayer = Replayer {
                 command: &command,
                 label: cmd.clone(),
-                env: &[],
+                env: Vec::new(),
             };
             run_replayer(&replayer, calls_dir, &out_dir, names, &log, inputs, watch)
         }
         Runner::Wine(exe) => {
-            let exe = match exe {
-                Some(exe) => exe.clone(),
-                None => cached_replayer()?,
-            };
-            let exe = std::path::absolute(&exe).map_err(|e| e.to_string())?;
-            if !exe.is_file() {
-                return Err(format!(
-                    "the replayer {} is not an existing file",
-                    exe.display()
-                ));
-            }
-            for tool in ["xvfb-run", "wine"] {
-                let found = Command::new("sh")
-                    .arg("-c")
-                    .arg(format!("command -v {tool}"))
-                    .stdout(Stdio::null())
-                    .status()
-                    .is_ok_and(|s| s.success());
-                if !found {
-                    return Err(format!(
-                        "--runner wine needs `{tool}` on PATH (on Debian: apt-get install wine \
-                         wine64 xvfb xauth)"
-                    ));
-                }
-            }
-            let command = || {
-                let mut c = Command::new("xvfb-run");
-                c.args(["-a", "sh", "-c", WINE_SCRIPT, "wine"]).arg(&exe);
-                c
-            };
-            let replayer = Replayer {
-                command: &command,
-                label: format!("wine {}", exe.display()),
-                env: WINE_ENVIRONMENT,
-            };
+            let exe = wine_replayer(exe)?;
+            let env = WINE_ENVIRONMENT
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string(), false))
+                .collect();
+            run_wine(
+                &exe,
+                env,
+                None,
+                calls_dir,
+                names,
+                (&out_dir, &log),
+                inputs,
+                watch,
+            )
+        }
+        Runner::WineD3d9 { replayer, dll } => {
+            let exe = wine_replayer(replayer)?;
+            let (dll, dll_bytes) = crate::dll::D3d9Dll::read(dll)?;
+            let exe_bytes =
+                fs::read(&exe).map_err(|e| format!("the replayer {}: {e}", exe.display()))?;
+            let folder = work.join("d3d9");
             let mut inputs = inputs.to_vec();
-            inputs.push(exe.clone());
-            run_replayer(&replayer, calls_dir, &out_dir, names, &log, &inputs, watch)
+            inputs.extend([exe.clone(), dll.path.clone()]);
+            // The replayer and the DLL side by side in the run's own folder: Wine loads a
+            // native d3d9.dll from the application's folder first.
+            let exe = crate::dll::place(&folder, "replayer.exe", &exe_bytes, &inputs)?;
+            crate::dll::place(&folder, "d3d9.dll", &dll_bytes, &inputs)?;
+            let user = std::env::var("WINEDLLOVERRIDES").ok();
+            let mut env: Vec<(String, String, bool)> = dll.environment(user.as_deref());
+            env.extend(
+                WINE_ENVIRONMENT
+                    .iter()
+                    .filter(|(k, _)| *k != "WINEDLLOVERRIDES")
+                    .map(|(k, v)| (k.to_string(), v.to_string(), false)),
+            );
+            let mut captures = run_wine(
+                &exe,
+                env,
+                Some(&dll),
+                calls_dir,
+                names,
+                (&out_dir, &log),
+                &inputs,
+                watch,
+            )?;
+            let text = fs::read_to_string(&log).unwrap_or_default();
+            let version = crate::dll::dxvk_version_from_log(&text);
+            let lines = &mut captures.device.lines;
+            lines.push(("d3d9_dll".into(), dll.name.clone()));
+            if let Some(v) = version {
+                lines.push(("dxvk_version".into(), v));
+            }
+            if let Some(v) = crate::dll::vulkan_device_from_log(&text) {
+                lines.push(("vulkan_device".into(), v));
+            }
+            Ok(captures)
         }
     }
+}
+
+/// The replayer `--runner wine` runs: `exe`, or the cached build; an absolute path to an
+/// existing file.
+fn wine_replayer(exe: &Option<PathBuf>) -> Result<PathBuf, String> {
+    let exe = match exe {
+        Some(exe) => exe.clone(),
+        None => cached_replayer()?,
+    };
+    let exe = std::path::absolute(&exe).map_err(|e| e.to_string())?;
+    if !exe.is_file() {
+        return Err(format!(
+            "the replayer {} is not an existing file",
+            exe.display()
+        ));
+    }
+    Ok(exe)
+}
+
+/// Runs the replayer `exe` under `xvfb-run` and Wine with the environment `env` (see
+/// [`Replayer::env`]), naming `dll` in the label when another d3d9.dll is loaded.
+#[allow(clippy::too_many_arguments)]
+fn run_wine(
+    exe: &Path,
+    env: Vec<(String, String, bool)>,
+    dll: Option<&crate::dll::D3d9Dll>,
+    calls_dir: &Path,
+    names: &[String],
+    (out_dir, log): (&Path, &Path),
+    inputs: &[PathBuf],
+    watch: &Watch,
+) -> Result<Captures, String> {
+    for tool in ["xvfb-run", "wine"] {
+        let found = Command::new("sh")
+            .arg("-c")
+            .arg(format!("command -v {tool}"))
+            .stdout(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !found {
+            return Err(format!(
+                "--runner wine needs `{tool}` on PATH (on Debian: apt-get install wine \
+                 wine64 xvfb xauth)"
+            ));
+        }
+    }
+    let command = || {
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "sh", "-c", WINE_SCRIPT, "wine"]).arg(exe);
+        c
+    };
+    let label = match dll {
+        Some(d) => format!("wine {} with {}", exe.display(), d.path.display()),
+        None => format!("wine {}", exe.display()),
+    };
+    let replayer = Replayer {
+        command: &command,
+        label,
+        env,
+    };
+    let mut inputs = inputs.to_vec();
+    inputs.push(exe.to_path_buf());
+    run_replayer(&replayer, calls_dir, out_dir, names, log, &inputs, watch)
 }
 
 /// The environment Wine runs the replayer in, where the caller's does not say otherwise: no
