@@ -146,7 +146,7 @@ fn resource_string(bytes: &[u8], key: &str) -> Option<String> {
     (!s.is_empty()).then_some(s)
 }
 
-/// DXVK's version string (`DXVK_VERSION`, such as `v2.6.2` or `v2.6.2-12-gabcdef`): the first
+/// DXVK's version string (`DXVK_VERSION`, such as `v2.6.2`, `v2.6.2+` from a tag's checkout, or `v2.6.2-12-gabcdef`): the first
 /// NUL-terminated ASCII string of the form `vN.N...` in the DLL.
 fn dxvk_version(bytes: &[u8]) -> Option<String> {
     bytes
@@ -164,7 +164,7 @@ fn dxvk_version(bytes: &[u8]) -> Option<String> {
                 && dots.all(numeric)
                 && rest
                     .bytes()
-                    .all(|b| b.is_ascii_alphanumeric() || b == b'.' || b == b'-')
+                    .all(|b| b.is_ascii_alphanumeric() || b".-+".contains(&b))
         })
         .map(str::to_string)
 }
