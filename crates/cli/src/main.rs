@@ -282,7 +282,7 @@ pub struct ConformArgs {
     /// With --runner wine: load this d3d9.dll (a DXVK build, say) instead of Wine's own: it
     /// is copied beside the replayer into REPORT/d3d9, with WINEDLLOVERRIDES d3d9=n,
     /// VK_ICD_FILENAMES lavapipe's and DXVK_CONFIG an honest adapter name unless set.
-    #[arg(long, value_name = "DLL", requires = "runner")]
+    #[arg(long, value_name = "DLL", requires = "runner", conflicts_with_all = ["runner_cmd", "captures"])]
     pub d3d9: Option<PathBuf>,
     /// The report folder.
     #[arg(long, value_name = "DIR")]

@@ -192,12 +192,12 @@ fn the_dll_runs_beside_the_replayer_with_the_overrides_and_is_named() {
     );
     let json = fs::read_to_string(report.join("report.json")).unwrap();
     assert!(
-        json.contains("\"d3d9_dll\":\"d3d9.dll (DXVK v2.6.2, file version 10.0.17763.1)\""),
+        json.contains("\"d3d9_dll\": \"d3d9.dll (DXVK v2.6.2, file version 10.0.17763.1)\""),
         "{json}"
     );
     assert!(
         json.contains(
-            "\"vulkan_device\":\"llvmpipe (LLVM 15.0.6, 256 bits) (driver llvmpipe 0.0.1)\""
+            "\"vulkan_device\": \"llvmpipe (LLVM 15.0.6, 256 bits) (driver llvmpipe 0.0.1)\""
         ),
         "{json}"
     );
