@@ -156,7 +156,7 @@ fn dxvk_version(bytes: &[u8]) -> Option<String> {
             let Some(rest) = s.strip_prefix('v') else {
                 return false;
             };
-            let mut dots = rest.split('-').next().unwrap_or("").split('.');
+            let mut dots = rest.split(['-', '+']).next().unwrap_or("").split('.');
             let numeric = |p: &str| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit());
             s.len() <= 40
                 && dots.next().is_some_and(numeric)
@@ -233,6 +233,15 @@ mod tests {
         let (name, dxvk) = describe("d3d9.dll", &dll);
         assert!(dxvk);
         assert_eq!(name, "d3d9.dll (DXVK v2.6.2, file version 10.0.17763.1)");
+    }
+
+    #[test]
+    fn a_tag_checkouts_version_string_keeps_its_plus() {
+        // What a build of DXVK's v2.6.2 tag holds: "DXVK: \0v2.6.2+\0Build: \0x86_64\0".
+        let dll = b"MZ\x90\0e.Game: \0DXVK: \0v2.6.2+\0Build: \0x86_64\0 \0gcc\0".to_vec();
+        assert_eq!(dxvk_version(&dll).as_deref(), Some("v2.6.2+"));
+        assert_eq!(dxvk_version(b"MZ\0v2.6.2-12-gabcdef\0").as_deref(), Some("v2.6.2-12-gabcdef"));
+        assert_eq!(dxvk_version(b"MZ\0v2.x\0v\0").as_deref(), None);
     }
 
     #[test]
