@@ -62,6 +62,32 @@ pub fn run_export(args: &ExportCallsArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// Runs `pointillist conform-page`: several reports on one page.
+pub fn run_page(args: &crate::ConformPageArgs) -> Result<(), String> {
+    let mut columns = Vec::new();
+    for r in &args.reports {
+        let (label, folder) = match r.split_once('=') {
+            Some((l, f)) if !Path::new(r).is_dir() && !l.is_empty() => {
+                (Some(l.to_string()), Path::new(f))
+            }
+            _ => (None, Path::new(r.as_str())),
+        };
+        columns.push(pointillist_conformance::page::Column::load(folder, label)?);
+    }
+    let s = pointillist_conformance::page::write(&columns, &args.out)?;
+    println!(
+        "{} devices, {} cases: {} match on every device, {} split the devices, {} match on \
+         none; page: {}",
+        columns.len(),
+        s.cases,
+        s.all_match,
+        s.split,
+        s.none_match,
+        args.out.join("index.html").display()
+    );
+    Ok(())
+}
+
 /// Parses `--case-timeout` and `--timeout`: seconds above 0.
 pub fn parse_seconds(text: &str) -> Result<Duration, String> {
     text.parse::<f64>()

@@ -144,6 +144,9 @@ enum Command {
     /// Replay scenes on a real Direct3D 9 device and compare its pixels with pointillist's.
     #[command(long_about = CONFORM_LONG_ABOUT, after_help = CONFORM_EXAMPLES)]
     Conform(ConformArgs),
+    /// Show several devices' conform reports side by side on one page.
+    #[command(long_about = CONFORM_PAGE_LONG_ABOUT, after_help = CONFORM_PAGE_EXAMPLES)]
+    ConformPage(ConformPageArgs),
     /// List the device behaviour switches: where real D3D9 devices differ, and the evidence.
     #[command(long_about = BEHAVIOURS_LONG_ABOUT)]
     Behaviours(BehavioursArgs),
@@ -238,6 +241,32 @@ Examples:
   pointillist conform crates/conformance/cases --runner wine --d3d9 build/src/d3d9/d3d9.dll \\
       --report report/ --expect crates/conformance/expect/dxvk-2.6.2.toml
   pointillist conform scenes/ring.toml --captures windows-captures/ --report report/";
+
+/// The long description of `pointillist conform-page --help`.
+const CONFORM_PAGE_LONG_ABOUT: &str = "\
+Show several devices' conform reports side by side on one page (docs/CONFORMANCE.md, \"Several
+devices on one page\"): a row per case with the SPEC rules it covers and their evidence grades,
+pointillist's image, a cell per device (match, option, differs, error; the device's image and
+the magnified difference on demand), and per behaviour switch the option each device showed.
+Each REPORT is a folder `pointillist conform --report` wrote (Wine, --d3d9 DXVK, --captures
+from a Windows PC); LABEL=REPORT names its column (default: its expectations' implementation,
+else the adapter). OUT receives index.html and the images it shows.";
+
+/// The examples of `pointillist conform-page --help`.
+const CONFORM_PAGE_EXAMPLES: &str = "\
+Examples:
+  pointillist conform-page wine=report-wine dxvk=report-dxvk --out devices/";
+
+/// Arguments of `pointillist conform-page`.
+#[derive(Debug, Args)]
+pub struct ConformPageArgs {
+    /// Report folders of `conform`, each optionally LABEL=REPORT.
+    #[arg(value_name = "REPORT", required = true)]
+    pub reports: Vec<String>,
+    /// The page's folder.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
 
 /// Arguments of `pointillist export-calls`.
 #[derive(Debug, Args)]
@@ -619,6 +648,7 @@ fn main() -> ExitCode {
         Command::View(args) => view(args),
         Command::ExportCalls(args) => conform::run_export(args),
         Command::Conform(args) => return conform::run_conform(args),
+        Command::ConformPage(args) => conform::run_page(args),
         Command::Behaviours(args) => behaviours::run(args),
     };
     match result {

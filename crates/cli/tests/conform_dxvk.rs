@@ -39,5 +39,8 @@ fn the_suite_through_the_named_d3d9_dll_ends_as_expected() {
     assert!(o.status.success(), "{}\n{}", stdout(&o), stderr(&o));
     assert!(stdout(&o).contains(" 0 unexpected"), "{}", stdout(&o));
     let json = std::fs::read_to_string(report.join("report.json")).unwrap();
-    assert!(json.contains("\"d3d9_dll\": \"d3d9.dll"), "the DLL is named");
+    assert!(
+        json.contains("\"d3d9_dll\": \"d3d9.dll"),
+        "the DLL is named"
+    );
 }

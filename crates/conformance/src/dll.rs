@@ -240,7 +240,10 @@ mod tests {
         // What a build of DXVK's v2.6.2 tag holds: "DXVK: \0v2.6.2+\0Build: \0x86_64\0".
         let dll = b"MZ\x90\0e.Game: \0DXVK: \0v2.6.2+\0Build: \0x86_64\0 \0gcc\0".to_vec();
         assert_eq!(dxvk_version(&dll).as_deref(), Some("v2.6.2+"));
-        assert_eq!(dxvk_version(b"MZ\0v2.6.2-12-gabcdef\0").as_deref(), Some("v2.6.2-12-gabcdef"));
+        assert_eq!(
+            dxvk_version(b"MZ\0v2.6.2-12-gabcdef\0").as_deref(),
+            Some("v2.6.2-12-gabcdef")
+        );
         assert_eq!(dxvk_version(b"MZ\0v2.x\0v\0").as_deref(), None);
     }
 

@@ -19,6 +19,7 @@ pub mod compare;
 pub mod dll;
 pub mod expect;
 pub mod export;
+pub mod page;
 pub mod report;
 pub mod runner;
 
@@ -660,7 +661,12 @@ pub fn conform_with(opts: &Options, watch: &Watch) -> Result<Summary, String> {
     };
     write(
         "report.json",
-        report::json(&captures.device, &summary.behaviours, &reports),
+        report::json(
+            &captures.device,
+            expectations.implementation.as_deref(),
+            &summary.behaviours,
+            &reports,
+        ),
     )?;
     write(
         "index.html",

@@ -84,31 +84,51 @@ struct JsonDevice<'a> {
 }
 
 #[derive(Serialize)]
+struct JsonImages<'a> {
+    pointillist: &'a str,
+    device: &'a str,
+    diff: &'a str,
+}
+
+#[derive(Serialize)]
 struct JsonCase<'a> {
+    name: &'a str,
     scene: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    title: Option<&'a str>,
+    rules: &'a [String],
     status: Status,
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     options: BTreeMap<&'static str, &'static str>,
     pixels_differing: u64,
     max_channel_difference: u8,
     message: &'a str,
+    /// The images, relative to the report folder, when the device drew one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    images: Option<JsonImages<'a>>,
 }
 
 #[derive(Serialize)]
 struct JsonReport<'a> {
+    /// The expectations' `implementation` line, when `--expect` gave one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    implementation: Option<&'a str>,
     device: JsonDevice<'a>,
     behaviours: &'a BTreeMap<&'static str, Option<&'static str>>,
     cases: Vec<JsonCase<'a>>,
 }
 
-/// `report.json`: the device, the option of each behaviour switch its cases showed (`null`
-/// when none decided it or they disagree), and every case.
+/// `report.json`: the implementation as the expectations name it, the device, the option of
+/// each behaviour switch its cases showed (`null` when none decided it or they disagree), and
+/// every case with its rules and images (what `conform-page` reads).
 pub fn json(
     device: &DeviceInfo,
+    implementation: Option<&str>,
     behaviours: &BTreeMap<&'static str, Option<&'static str>>,
     cases: &[CaseReport],
 ) -> String {
     let report = JsonReport {
+        implementation,
         device: JsonDevice {
             description: &device.description,
             max_point_size: device.max_point_size,
@@ -124,12 +144,20 @@ pub fn json(
         cases: cases
             .iter()
             .map(|c| JsonCase {
+                name: &c.name,
                 scene: &c.scene,
+                title: c.title.as_deref(),
+                rules: &c.rules,
                 status: c.status,
                 options: c.matching.iter().copied().collect(),
                 pixels_differing: c.pixels_differing,
                 max_channel_difference: c.max_channel_difference,
                 message: &c.message,
+                images: c.images.as_ref().map(|i| JsonImages {
+                    pointillist: &i.pointillist,
+                    device: &i.device,
+                    diff: &i.diff,
+                }),
             })
             .collect(),
     };
@@ -205,19 +233,19 @@ pub fn spec_evidence() -> BTreeMap<(u32, u32), String> {
 }
 
 /// A rule citation as a key: "2.3" is (2, 3), "4" is (4, 0).
-fn rule_key(rule: &str) -> Option<(u32, u32)> {
+pub(crate) fn rule_key(rule: &str) -> Option<(u32, u32)> {
     let (s, i) = rule.split_once('.').unwrap_or((rule, "0"));
     Some((s.parse().ok()?, i.parse().ok()?))
 }
 
-fn esc(s: &str) -> String {
+pub(crate) fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
 }
 
-const STYLE: &str = "
+pub(crate) const STYLE: &str = "
 body { font: 14px/1.4 system-ui, sans-serif; margin: 1.5em; color: #222; }
 h1 { font-size: 1.5em; margin: 0 0 .3em; }
 h2 { font-size: 1.15em; margin: 1.2em 0 .4em; }
