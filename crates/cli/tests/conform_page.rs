@@ -44,16 +44,18 @@ fn captures(t: &TempDir, name: &str, scenes: &Path, blue_right: bool) -> PathBuf
     dir
 }
 
-fn report(scenes: &Path, captures: &Path, out: &Path) {
-    let o = command()
-        .arg("conform")
+fn report(scenes: &Path, captures: &Path, out: &Path, expect: Option<&Path>) {
+    let mut c = command();
+    c.arg("conform")
         .arg(scenes)
         .arg("--captures")
         .arg(captures)
         .arg("--report")
-        .arg(out)
-        .output()
-        .unwrap();
+        .arg(out);
+    if let Some(e) = expect {
+        c.arg("--expect").arg(e);
+    }
+    let o = c.output().unwrap();
     assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
 }
 
@@ -67,8 +69,13 @@ fn two_devices_side_by_side_with_the_split_case_marked() {
     let good = captures(&t, "good", &scenes, true);
     let bad = captures(&t, "bad", &scenes, false);
     let (rep_good, rep_bad) = (t.path("rep-good"), t.path("rep-bad"));
-    report(&scenes, &good, &rep_good);
-    report(&scenes, &bad, &rep_bad);
+    let expect = t.write(
+        "bad.toml",
+        "implementation = \"bad\"\n[[case]]\ncase = \"blue\"\nstatus = \"differs\"\n\
+         pixels_differing = 4\nd3d9 = \"SPEC 4.1: blue.\"\nimplementation = \"It draws red.\"\n",
+    );
+    report(&scenes, &good, &rep_good, None);
+    report(&scenes, &bad, &rep_bad, Some(&expect));
 
     let page = t.path("page");
     let o = command()
@@ -98,6 +105,9 @@ fn two_devices_side_by_side_with_the_split_case_marked() {
     assert!(blue.starts_with("<tr class=\"split\">"), "{blue}");
     assert!(blue.contains("SPEC 4.1"), "{blue}");
     assert!(blue.contains("<span class=\"differs\""), "{blue}");
+    // The expectations' explanation travels with the case, under the column's label.
+    assert!(blue.contains("4 px (explained)"), "{blue}");
+    assert!(blue.contains("<b>bad:</b> It draws red."), "{blue}");
     let red = html.lines().find(|l| l.contains("<b>red</b>")).unwrap();
     assert!(red.starts_with("<tr class=\"agree\">"), "{red}");
     // The page travels as one folder: the images it shows are beside it, and they are the

@@ -45,6 +45,16 @@ struct JsonCase {
     message: String,
     #[serde(default)]
     images: Option<JsonImages>,
+    #[serde(default)]
+    unexpected: Option<String>,
+    #[serde(default)]
+    explanation: Option<JsonExplanation>,
+}
+
+#[derive(Deserialize)]
+struct JsonExplanation {
+    d3d9: String,
+    implementation: String,
 }
 
 #[derive(Deserialize)]
@@ -231,6 +241,13 @@ pub fn write(columns: &[Column], out: &Path) -> Result<PageSummary, String> {
             if c.status == "differs" {
                 let _ = write!(rows, " {} px", c.pixels_differing);
             }
+            match (&c.unexpected, &c.explanation) {
+                (Some(u), _) => {
+                    let _ = write!(rows, "<br><b class=\"error\">unexpected</b>: {}", esc(u));
+                }
+                (None, Some(_)) => rows.push_str(" (explained)"),
+                (None, None) => {}
+            }
             if !matched(&c.status)
                 && let Some(images) = &c.images
             {
@@ -248,10 +265,16 @@ pub fn write(columns: &[Column], out: &Path) -> Result<PageSummary, String> {
                      <img class=\"img\" loading=\"lazy\" src=\"{}\" alt=\"device\">\
                      <figcaption>device</figcaption></figure><figure><img class=\"img\" \
                      loading=\"lazy\" src=\"{}\" alt=\"difference\"><figcaption>difference, \
-                     magnified</figcaption></figure></div><p class=\"rules\">{}</p></details>",
+                     magnified</figcaption></figure></div><p class=\"rules\">{}</p>{}</details>",
                     esc(&device),
                     esc(&diff),
-                    esc(&c.message)
+                    esc(&c.message),
+                    c.explanation.as_ref().map_or(String::new(), |e| format!(
+                        "<div class=\"why\"><p><b>D3D9:</b> {}</p><p><b>{}:</b> {}</p></div>",
+                        esc(&e.d3d9),
+                        esc(&columns[i].label),
+                        esc(&e.implementation)
+                    ))
                 );
             } else if c.status == "error" {
                 let _ = write!(rows, "<br><span class=\"rules\">{}</span>", esc(&c.message));
@@ -356,6 +379,9 @@ tr.split td:first-child { border-left: 4px solid #1a56a8; }
 tr.none td:first-child { border-left: 4px solid #a15c00; }
 body.only-splits tr.agree { display: none; }
 .thumb { max-width: 96px; max-height: 96px; }
+.cases td { max-width: 24em; }
+.cases details .img { width: 10em; height: auto; }
+.cases .why { width: auto; }
 ";
 
 fn same_folder(a: &Path, b: &Path) -> bool {

@@ -106,6 +106,17 @@ struct JsonCase<'a> {
     /// The images, relative to the report folder, when the device drew one.
     #[serde(skip_serializing_if = "Option::is_none")]
     images: Option<JsonImages<'a>>,
+    /// How the outcome departs from the expectations (`null` when as expected).
+    unexpected: Option<&'a str>,
+    /// The expectations' explanation of a known difference.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    explanation: Option<JsonExplanation<'a>>,
+}
+
+#[derive(Serialize)]
+struct JsonExplanation<'a> {
+    d3d9: &'a str,
+    implementation: &'a str,
 }
 
 #[derive(Serialize)]
@@ -158,6 +169,14 @@ pub fn json(
                     device: &i.device,
                     diff: &i.diff,
                 }),
+                unexpected: c.verdict.as_ref().err().map(String::as_str),
+                explanation: c
+                    .explanation
+                    .as_ref()
+                    .map(|(d3d9, implementation)| JsonExplanation {
+                        d3d9,
+                        implementation,
+                    }),
             })
             .collect(),
     };
