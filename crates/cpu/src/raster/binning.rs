@@ -234,6 +234,12 @@ pub(super) struct FoggedSprite {
     fog: f32,
 }
 
+// The sizes the docs state (ARCHITECTURE.md, PERFORMANCE.md): the bins' memory is these times
+// the points binned.
+const _: () = assert!(size_of::<Solid>() == 16);
+const _: () = assert!(size_of::<Sprite>() == 28);
+const _: () = assert!(size_of::<FoggedSprite>() == 32);
+
 impl Binned for FoggedSprite {
     fn chunks(bins: &mut Bins) -> &mut Vec<Chunk<FoggedSprite>> {
         &mut bins.fogged_sprite
