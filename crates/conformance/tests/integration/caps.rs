@@ -2,6 +2,9 @@
 //! each profile reports.
 
 use pointillist_core::caps::{Caps, VertexProcessing};
+use pointillist_core::states::{Api, RenderState};
+use pointillist_core::{DeviceDesc, XyzRhwDiffuse, XyzRhwPsizeDiffuse};
+use pointillist_testkit::{Tolerance, check_desc};
 
 use crate::common::*;
 
@@ -59,5 +62,48 @@ fn spec_6_every_builtin_profile_has_a_case() {
     for name in Caps::PROFILES {
         let file = dir.join(format!("profile_{name}_draws.toml"));
         assert!(file.exists(), "{} is missing", file.display());
+    }
+}
+
+#[test]
+fn spec_6_caps_profiles_and_api() {
+    let pts = [
+        XyzRhwPsizeDiffuse {
+            position: [20.0, 20.0, 0.5, 1.0],
+            psize: 10.0,
+            diffuse: 0xFFFF_0000,
+        },
+        XyzRhwPsizeDiffuse {
+            position: [60.5, 20.0, 0.5, 1.0],
+            psize: 100.0,
+            diffuse: 0xFF00_FF00,
+        },
+        XyzRhwPsizeDiffuse {
+            position: [30.0, 50.0, 0.5, 1.0],
+            psize: 0.5,
+            diffuse: 0xFF00_00FF,
+        },
+    ];
+    for api in [Api::D3d9, Api::D3d8] {
+        for name in Caps::PROFILES {
+            let desc = DeviceDesc {
+                api,
+                caps: Caps::profile(name).expect("profile"),
+                ..DeviceDesc::new(128, 128)
+            };
+            check_desc(
+                &format!("spec_6_profile_{name}_{api:?}"),
+                desc,
+                Tolerance::Exact,
+                |d| {
+                    d.set_render_state(RenderState::POINTSIZE, 6.0f32);
+                    d.draw_vertices(&pts)?;
+                    d.draw_vertices(&[XyzRhwDiffuse {
+                        position: [90.0, 90.0, 0.5, 1.0],
+                        diffuse: 0xFFFF_FF00,
+                    }])
+                },
+            );
+        }
     }
 }

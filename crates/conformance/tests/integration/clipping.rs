@@ -1,5 +1,18 @@
 //! SPEC section 3, clipping and culling: the cases of `cases/3-clipping/` on every backend.
 
+use pointillist_core::caps::Caps;
+use pointillist_core::fvf::Fvf;
+use pointillist_core::math::Mat4;
+use pointillist_core::states::RenderState;
+use pointillist_core::{
+    DeviceDesc, DeviceError, TransformType, Viewport, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse,
+    XyzRhwPsizeDiffuse,
+};
+use pointillist_gpu::{ContextOptions, GpuContext};
+use pointillist_testkit::{AnyDevice, Tolerance, check, check_desc, check_on, gpu_context};
+
+use crate::common::*;
+
 cases!("3-clipping":
     behind_the_camera_is_dropped,
     behind_the_camera_is_dropped_clipping_off,
@@ -103,4 +116,280 @@ fn subnormal_coordinates_count_as_zero() {
                 .all(|&z| z == 1.0 || (visible && z.is_finite()))
         );
     }
+}
+
+/// SPEC 3.1, 8.3 and `xyzw_input_w`: XYZW points whose w is 0.5, 2, 0, negative or NaN, under
+/// a perspective projection, on both backends under each option (`ignored` draws them as XYZ
+/// points; `used` moves, resizes or drops them).
+#[test]
+fn spec_3_1_xyzw_input_w_behaviour() {
+    let mut r = Rng(3_108);
+    let mut vertices = Vec::new();
+    for k in 0..120 {
+        let z = r.range(1.5, 30.0);
+        let w = [0.5, 2.0, 0.0, -1.0, f32::NAN, 1.0, 0.75, 1.5][k % 8];
+        vertices.extend(bytes(&[
+            f(r.range(-z, z)),
+            f(r.range(-z, z)),
+            f(z),
+            f(w),
+            f(r.range(1.0, 12.0)),
+            r.color() | 0xFF00_0000,
+        ]));
+    }
+    let fvf = Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);
+    let scene = |d: &mut AnyDevice| {
+        perspective(d, 1.0);
+        d.set_render_state(RenderState::POINTSCALEENABLE, true);
+        d.set_render_state(RenderState::POINTSCALE_A, 0.0f32);
+        d.set_render_state(RenderState::POINTSCALE_B, 0.0f32);
+        d.set_render_state(RenderState::POINTSCALE_C, 1.0f32);
+        d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+        d.draw_point_list(fvf, &vertices)
+    };
+    let mut images = Vec::new();
+    for option in ["ignored", "used"] {
+        let mut desc = DeviceDesc::new(128, 128);
+        desc.behaviours.set("xyzw_input_w", option).unwrap();
+        check_desc(
+            &format!("spec_3_1_xyzw_input_w_{option}"),
+            desc,
+            Tolerance::Exact,
+            scene,
+        );
+        images.push(pointillist_testkit::cpu(desc, &scene).color);
+    }
+    assert_ne!(images[0], images[1], "the option moves the points");
+}
+
+#[test]
+fn spec_3_1_depth_and_w_clipping() {
+    let pts = [
+        XyzDiffuse {
+            position: [0.0, 0.0, 0.5],
+            diffuse: 0xFFFF_0000,
+        }, // before the near plane
+        XyzDiffuse {
+            position: [1.0, 1.0, 5.0],
+            diffuse: 0xFF00_FF00,
+        },
+        XyzDiffuse {
+            position: [-20.0, 5.0, 200.0],
+            diffuse: 0xFF00_00FF,
+        }, // beyond the far plane
+        XyzDiffuse {
+            position: [0.0, 0.0, -5.0],
+            diffuse: 0xFFFF_FFFF,
+        }, // behind the eye: w < 0
+        XyzDiffuse {
+            position: [f32::NAN, 0.0, 5.0],
+            diffuse: 0xFFFF_FFFF,
+        },
+        XyzDiffuse {
+            position: [f32::INFINITY, 0.0, 5.0],
+            diffuse: 0xFFFF_FFFF,
+        },
+        XyzDiffuse {
+            position: [-2.0, -1.0, 3.0],
+            diffuse: 0xFF80_8080,
+        },
+    ];
+    for clipping in [true, false] {
+        check(
+            &format!("spec_3_1_clipping_{clipping}"),
+            128,
+            128,
+            Tolerance::Exact,
+            |d| {
+                perspective(d, 1.0);
+                d.set_render_state(RenderState::CLIPPING, clipping);
+                d.set_render_state(RenderState::POINTSIZE, 9.0f32);
+                d.set_render_state(RenderState::ZENABLE, 0u32);
+                d.draw_vertices(&pts)?;
+                // Pre-transformed points outside the depth range, and with RHW <= 0.
+                d.draw_vertices(&[
+                    XyzRhwDiffuse {
+                        position: [100.0, 100.0, 1.5, 1.0],
+                        diffuse: 0xFFFF_00FF,
+                    },
+                    XyzRhwDiffuse {
+                        position: [100.0, 20.0, 0.5, 0.0],
+                        diffuse: 0xFFFF_00FF,
+                    },
+                    XyzRhwDiffuse {
+                        position: [20.0, 100.0, 0.5, -1.0],
+                        diffuse: 0xFFFF_00FF,
+                    },
+                    XyzRhwDiffuse {
+                        position: [60.0, 100.0, 0.25, 2.0],
+                        diffuse: 0xFF00_FFFF,
+                    },
+                ])
+            },
+        );
+    }
+}
+
+#[test]
+fn spec_3_2_footprint_clipping() {
+    let mut pts = Vec::new();
+    for (i, &(x, y)) in [
+        (16.0f32, 16.0f32),
+        (10.0, 40.0),
+        (79.5, 50.0),
+        (50.0, 79.25),
+        (90.0, 90.0),
+        (8.0, 8.0),
+        (85.0, 12.0),
+        (-3.0, 30.0),
+    ]
+    .iter()
+    .enumerate()
+    {
+        pts.push(XyzRhwPsizeDiffuse {
+            position: [x, y, 0.5, 1.0],
+            psize: 9.0 + i as f32 * 2.5,
+            diffuse: 0xFF20_4080 + i as u32 * 0x0011_0F00,
+        });
+    }
+    check("spec_3_2_footprint", 128, 128, Tolerance::Exact, |d| {
+        d.set_viewport(Viewport {
+            x: 16,
+            y: 16,
+            width: 64,
+            height: 64,
+            min_z: 0.25,
+            max_z: 0.75,
+        })?;
+        d.draw_vertices(&pts)?;
+        // Transformed points at the viewport's edge, depth mapped into min_z..max_z.
+        d.set_render_state(RenderState::LIGHTING, false);
+        d.set_render_state(RenderState::POINTSIZE, 20.0f32);
+        d.draw_vertices(&[
+            XyzDiffuse {
+                position: [1.0, 0.0, 0.5],
+                diffuse: 0xFFFF_FF00,
+            },
+            XyzDiffuse {
+                position: [-0.95, -1.1, 0.25],
+                diffuse: 0xFF00_FFFF,
+            },
+        ])
+    });
+}
+
+/// A field of transformed points for the clip-plane scenes.
+fn plane_points() -> Vec<XyzPsizeDiffuse> {
+    let mut pts = Vec::new();
+    for i in 0..6 {
+        for j in 0..6 {
+            pts.push(XyzPsizeDiffuse {
+                position: [-0.8 + 0.32 * i as f32, -0.8 + 0.32 * j as f32, 0.5],
+                psize: 6.0 + 3.0 * ((i + j) % 4) as f32,
+                diffuse: 0xFF00_0000 | (i * 40) << 16 | (j * 40) << 8 | 0x80,
+            });
+        }
+    }
+    pts
+}
+
+fn plane_scene(d: &mut AnyDevice) -> Result<(), DeviceError> {
+    d.set_transform(
+        TransformType::View,
+        Mat4::look_at_lh([0.3, 0.2, -2.0], [0.0, 0.0, 0.5], [0.0, 1.0, 0.0]),
+    );
+    perspective(d, 1.0);
+    d.set_clip_plane(0, [1.0, 0.25, 0.0, 0.1])?;
+    d.set_clip_plane(1, [-0.5, 1.0, 0.0, 0.3])?;
+    d.set_clip_plane(2, [0.0, 0.0, 1.0, 5.0])?; // keeps everything
+    d.set_clip_plane(3, [0.0, -1.0, 0.0, 0.0])?; // through pixel centres in y
+    d.set_render_state(RenderState::CLIPPLANEENABLE, 0b1011u32);
+    d.draw_vertices(&plane_points())?;
+    d.set_render_state(RenderState::CLIPPLANEENABLE, 0b0100u32);
+    d.set_render_state(RenderState::POINTSIZE, 3.0f32);
+    d.draw_vertices(&[XyzDiffuse {
+        position: [0.9, 0.9, 0.5],
+        diffuse: 0xFFFF_FFFF,
+    }])?;
+    // Identity transforms: planes in clip space through exact pixel positions.
+    d.set_transform(TransformType::View, Mat4::IDENTITY);
+    d.set_transform(TransformType::Projection, Mat4::IDENTITY);
+    d.set_clip_plane(4, [1.0, 0.0, 0.0, 0.0])?;
+    d.set_clip_plane(5, [0.0, 1.0, 0.0, -0.5])?;
+    d.set_render_state(RenderState::CLIPPLANEENABLE, 0b11_0000u32);
+    d.set_render_state(RenderState::POINTSIZE, 24.0f32);
+    d.draw_vertices(&[
+        XyzDiffuse {
+            position: [0.0, 0.5, 0.5],
+            diffuse: 0xFF80_FF80,
+        },
+        XyzDiffuse {
+            position: [0.25, 0.75, 0.5],
+            diffuse: 0xFFFF_8080,
+        },
+    ])
+}
+
+#[test]
+fn spec_3_3_user_clip_planes_scaled_points() {
+    check(
+        "spec_3_3_planes_scaled",
+        128,
+        128,
+        Tolerance::Exact,
+        plane_scene,
+    );
+}
+
+#[test]
+fn spec_3_3_user_clip_planes_vertex_position() {
+    let desc = DeviceDesc {
+        caps: Caps::profile("vertex_position_clip").expect("profile"),
+        ..DeviceDesc::new(128, 128)
+    };
+    check_desc(
+        "spec_3_3_planes_vertex",
+        desc,
+        Tolerance::Exact,
+        plane_scene,
+    );
+}
+
+/// [`plane_scene`] without its planes through exact pixel centres: interpolated clip distances
+/// are only as exact as the interpolation, so a centre lying exactly on a plane (kept by the
+/// CPU, value 0) can come out slightly negative and be clipped.
+fn plane_scene_off_centres(d: &mut AnyDevice) -> Result<(), DeviceError> {
+    d.set_transform(
+        TransformType::View,
+        Mat4::look_at_lh([0.3, 0.2, -2.0], [0.0, 0.0, 0.5], [0.0, 1.0, 0.0]),
+    );
+    perspective(d, 1.0);
+    d.set_clip_plane(0, [1.0, 0.25, 0.0, 0.1])?;
+    d.set_clip_plane(1, [-0.5, 1.0, 0.0, 0.3])?;
+    d.set_clip_plane(2, [0.0, 0.0, 1.0, 5.0])?;
+    d.set_render_state(RenderState::CLIPPLANEENABLE, 0b111u32);
+    d.draw_vertices(&plane_points())
+}
+
+#[test]
+fn spec_3_3_user_clip_planes_with_clip_distances() {
+    if gpu_context().is_none() {
+        return;
+    }
+    let ctx = GpuContext::new(ContextOptions {
+        prefer_clip_distances: true,
+        ..ContextOptions::default()
+    })
+    .expect("second context");
+    eprintln!(
+        "clip planes on this adapter: {:?}",
+        ctx.adapter().clip_planes
+    );
+    check_on(
+        &ctx,
+        "spec_3_3_planes_clip_distances",
+        DeviceDesc::new(128, 128),
+        Tolerance::Exact,
+        &plane_scene_off_centres,
+    );
 }

@@ -2,11 +2,15 @@
 //! tests and the property tests, and running a case by its folder and name.
 
 use std::collections::BTreeSet;
+use std::sync::Arc;
 
 use pointillist_core::caps::Caps;
 use pointillist_core::fvf::Fvf;
-use pointillist_core::states::{Api, RenderState};
-use pointillist_core::{DeviceDesc, RenderTarget};
+use pointillist_core::math::Mat4;
+use pointillist_core::states::{Api, RenderState, SamplerState, TextureFilter};
+use pointillist_core::texture::Texture;
+use pointillist_core::{DeviceDesc, RenderTarget, TransformType, XyzRhwPsizeDiffuse};
+use pointillist_testkit::AnyDevice;
 
 /// The device every test draws on: the CPU backend and, with an adapter, the GPU backend,
 /// compared at each read of the target (`pointillist_testkit`).
@@ -141,3 +145,101 @@ pub fn folder_holds(folder: &str, names: &[&str]) {
     listed.sort();
     assert_eq!(files, listed, "cases/{folder} and its test list differ");
 }
+
+/// A small deterministic generator (xorshift).
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
+    }
+
+    pub fn color(&mut self) -> u32 {
+        self.next() as u32
+    }
+}
+
+/// A `w` x `h` texture whose texels all differ (every channel varies), alpha varying too.
+pub fn distinct_texture(w: u32, h: u32) -> Arc<Texture> {
+    let texels = (0..w * h)
+        .map(|k| {
+            let (x, y) = (k % w, k / w);
+            let r = (x * 255 / w.max(2).saturating_sub(1).max(1)).min(255);
+            let g = (y * 255 / h.max(2).saturating_sub(1).max(1)).min(255);
+            let b = (k * 37) & 0xFF;
+            let a = 0x40 + ((k * 13) & 0xBF);
+            (a << 24) | (r << 16) | (g << 8) | b
+        })
+        .collect();
+    Arc::new(Texture::from_argb(w, h, texels).expect("texture"))
+}
+
+/// Pretransformed sprites at `(x, y, size)`.
+pub fn rhw_sprites(points: &[(f32, f32, f32)], color: u32) -> Vec<XyzRhwPsizeDiffuse> {
+    points
+        .iter()
+        .map(|&(x, y, s)| XyzRhwPsizeDiffuse {
+            position: [x, y, 0.5, 1.0],
+            psize: s,
+            diffuse: color,
+        })
+        .collect()
+}
+
+/// A camera looking down +z from the origin with a 90 degree field of view, for untransformed
+/// points in their vertex colours (LIGHTING FALSE, SPEC 8.1).
+pub fn perspective(d: &mut AnyDevice, aspect: f32) {
+    d.set_render_state(RenderState::LIGHTING, false);
+    d.set_transform(
+        TransformType::Projection,
+        Mat4::perspective_fov_lh(std::f32::consts::FRAC_PI_2, aspect, 1.0, 100.0),
+    );
+}
+
+/// Binds `texture` to `stage` with `filter` for MIN and MAG.
+pub fn bind(d: &mut AnyDevice, stage: usize, texture: &Arc<Texture>, filter: TextureFilter) {
+    d.set_texture(stage, Some(Arc::clone(texture)))
+        .expect("stage");
+    for s in [SamplerState::MINFILTER, SamplerState::MAGFILTER] {
+        d.set_sampler_state(stage, s, filter).expect("sampler");
+    }
+}
+
+/// Untransformed points with normals, in a grid in front of the camera: `(x, y, z, nx, ny, nz,
+/// diffuse, specular)` words of `XYZ | NORMAL | DIFFUSE | SPECULAR`.
+pub fn lit_grid(r: &mut Rng) -> Vec<u8> {
+    let mut v = Vec::new();
+    for j in 0..12 {
+        for i in 0..16 {
+            let x = -1.5 + i as f32 * 0.2;
+            let y = -1.1 + j as f32 * 0.2;
+            let z = r.range(2.0, 6.0);
+            let n = [r.range(-1.0, 1.0), r.range(-1.0, 1.0), r.range(-1.5, 0.5)];
+            v.extend(
+                [
+                    f(x),
+                    f(y),
+                    f(z),
+                    f(n[0]),
+                    f(n[1]),
+                    f(n[2]),
+                    r.color() | 0x4000_0000,
+                    r.color(),
+                ]
+                .iter()
+                .flat_map(|w| w.to_le_bytes()),
+            );
+        }
+    }
+    v
+}
+
+pub const LIT_FVF: Fvf = Fvf(Fvf::XYZ.0 | Fvf::NORMAL.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);

@@ -2,12 +2,15 @@
 //! state (SetLight's refusals, the light LightEnable creates, the note of a lit draw without a
 //! light), through the public device API on both backends.
 
-use crate::common::*;
-use pointillist_core::DeviceError;
 use pointillist_core::caps::Caps;
 use pointillist_core::fvf::Fvf;
 use pointillist_core::light::{Light, LightType, Material};
+use pointillist_core::math::Mat4;
 use pointillist_core::states::RenderState;
+use pointillist_core::{DeviceError, TransformType};
+use pointillist_testkit::{Tolerance, check};
+
+use crate::common::*;
 
 cases!("8-lighting":
     a_disable_does_not_give_its_slot_to_a_waiting_light_under_enable_order,
@@ -297,5 +300,85 @@ fn spec_8_2_light_order_on_both_backends() {
             };
             assert_eq!(pixel(&mut d), again, "{option} after enabling 0 again");
         }
+    }
+}
+
+/// SPEC 8: every light type, attenuation, range, spot cones, specular with a local and an
+/// infinite viewer, material sources, NORMALIZENORMALS, on both backends.
+#[test]
+fn spec_8_lighting_each_light_type() {
+    use pointillist_core::light::{Light, LightType, Material};
+    let mut r = Rng(0x11_6475);
+    let grid = lit_grid(&mut r);
+    let lights = [
+        Light {
+            diffuse: [0.9, 0.8, 0.7, 1.0],
+            specular: [1.0, 1.0, 1.0, 1.0],
+            ambient: [0.1, 0.1, 0.2, 0.0],
+            direction: [0.3, -0.5, 1.0],
+            ..Light::zeroed(LightType::Directional)
+        },
+        Light {
+            diffuse: [0.2, 0.9, 0.3, 1.0],
+            specular: [0.5, 1.0, 0.5, 1.0],
+            ambient: [0.0, 0.2, 0.0, 0.0],
+            position: [1.0, 1.0, 1.0],
+            range: 5.5,
+            attenuation0: 0.5,
+            attenuation1: 0.2,
+            attenuation2: 0.05,
+            ..Light::zeroed(LightType::Point)
+        },
+        Light {
+            diffuse: [1.0, 0.3, 0.2, 1.0],
+            specular: [1.0, 0.5, 0.5, 0.5],
+            position: [-1.0, 0.5, -1.0],
+            direction: [0.2, -0.1, 1.0],
+            range: 20.0,
+            attenuation0: 1.0,
+            falloff: 2.0,
+            theta: 0.3,
+            phi: 0.8,
+            ..Light::zeroed(LightType::Spot)
+        },
+    ];
+    for case in 0..6 {
+        let name = format!("spec_8_lighting_{case}");
+        check(&name, 96, 72, Tolerance::Exact, |d| {
+            perspective(d, 96.0 / 72.0);
+            d.set_render_state(RenderState::LIGHTING, true);
+            d.set_transform(
+                TransformType::View,
+                Mat4::look_at_lh([0.2, 0.3, -1.0], [0.0, 0.0, 4.0], [0.0, 1.0, 0.0]),
+            );
+            d.set_render_state(RenderState::POINTSIZE, 5.0f32);
+            d.set_render_state(RenderState::SPECULARENABLE, case % 3 != 2);
+            d.set_render_state(RenderState::LOCALVIEWER, case % 2 == 0);
+            d.set_render_state(RenderState::NORMALIZENORMALS, case < 4);
+            d.set_render_state(RenderState::AMBIENT, 0xFF20_1008u32);
+            if case == 3 {
+                d.set_render_state(RenderState::AMBIENTMATERIALSOURCE, 1u32);
+                d.set_render_state(RenderState::EMISSIVEMATERIALSOURCE, 2u32);
+                d.set_render_state(RenderState::DIFFUSEMATERIALSOURCE, 0u32);
+            }
+            if case == 5 {
+                d.set_render_state(RenderState::COLORVERTEX, false);
+            }
+            d.set_material(Material {
+                diffuse: [0.8, 0.7, 0.9, 0.75],
+                ambient: [0.5, 0.5, 0.5, 1.0],
+                specular: [0.9, 0.9, 0.9, 1.0],
+                emissive: [0.05, 0.0, 0.1, 0.0],
+                power: [8.0, 20.0, 0.0][case % 3],
+            });
+            for (k, l) in lights.iter().enumerate() {
+                if case == 4 && k == 0 {
+                    continue; // only the positional lights
+                }
+                d.set_light(k as u32 * 2, *l)?;
+                d.light_enable(k as u32 * 2, true);
+            }
+            d.draw_point_list(LIT_FVF, &grid)
+        });
     }
 }

@@ -4,7 +4,10 @@
 //! Each case is a scene file under `crates/conformance/cases/` (its README describes the
 //! layout and docs/spec/SCENE.md the `[case]` table), run by one test of the same name on every
 //! backend (`run::run_case`). API behaviour a scene cannot state (state
-//! read-back, validation errors, notices) is tested in Rust beside the cases of its chapter.
+//! read-back, validation errors, notices) is tested in Rust beside the cases of its chapter, with
+//! the programmatic scenes that compare the GPU backend with the CPU backend per rule family
+//! (`pointillist_testkit::check`: exact where no filtering or blending arithmetic is involved,
+//! within 1/255 per channel otherwise).
 
 mod common;
 mod run;
@@ -28,7 +31,6 @@ macro_rules! cases {
     };
 }
 
-mod backends;
 mod caps;
 mod clipping;
 mod fog;

@@ -1,11 +1,17 @@
 //! SPEC section 2, point size: the cases of `cases/2-size/` on every backend, and the state
 //! read-back a scene cannot state (defaults, raw bits).
 
-use crate::common::*;
+use std::collections::BTreeSet;
+
 use pointillist_core::caps::Caps;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
-use pointillist_core::{Behaviours, DeviceDesc};
-use std::collections::BTreeSet;
+use pointillist_core::{
+    Behaviours, DeviceDesc, Viewport, XyzDiffuse, XyzPsizeDiffuse, XyzRhwDiffuse,
+    XyzRhwPsizeDiffuse,
+};
+use pointillist_testkit::{AnyDevice, Tolerance, check, check_desc};
+
+use crate::common::*;
 
 type Rs = RenderState;
 type Tss = TextureStageState;
@@ -219,4 +225,206 @@ fn spec_2_7_render_states_hold_raw_bits() {
         d.sampler_state(2, SamplerState::MIPMAPLODBIAS),
         Some(0x7FC0_0042)
     );
+}
+
+#[test]
+fn spec_2_3_clamps() {
+    let sizes = [
+        0.0,
+        0.5,
+        3.0,
+        6.0,
+        9.0,
+        40.0,
+        -3.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+    ];
+    let row = |y: f32| -> Vec<XyzRhwPsizeDiffuse> {
+        sizes
+            .iter()
+            .enumerate()
+            .map(|(i, &s)| XyzRhwPsizeDiffuse {
+                position: [12.0 + 24.0 * i as f32, y, 0.5, 1.0],
+                psize: s,
+                diffuse: 0xFF00_FF00 | (i as u32 * 20),
+            })
+            .collect()
+    };
+    check("spec_2_3_clamps", 256, 128, Tolerance::Exact, |d| {
+        d.set_render_state(RenderState::POINTSIZE_MIN, 2.0f32);
+        d.set_render_state(RenderState::POINTSIZE_MAX, 10.0f32);
+        d.draw_vertices(&row(12.0))?;
+        // MIN above MAX: MAX wins.
+        d.set_render_state(RenderState::POINTSIZE_MIN, 12.0f32);
+        d.set_render_state(RenderState::POINTSIZE_MAX, 5.0f32);
+        d.draw_vertices(&row(40.0))?;
+        // NaN bounds are no bounds (SPEC 2.3, 2.7), capped by the caps' size.
+        d.set_render_state(RenderState::POINTSIZE_MIN, f32::NAN);
+        d.set_render_state(RenderState::POINTSIZE_MAX, f32::NAN);
+        d.draw_vertices(&row(70.0))?;
+        // The state size, NaN and huge.
+        d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+        d.set_render_state(RenderState::POINTSIZE_MAX, 16.0f32);
+        d.set_render_state(RenderState::POINTSIZE, f32::NAN);
+        d.draw_vertices(&[XyzRhwDiffuse {
+            position: [30.0, 110.0, 0.5, 1.0],
+            diffuse: 0xFFFFFFFF,
+        }])?;
+        d.set_render_state(RenderState::POINTSIZE, 1.0e30f32);
+        d.draw_vertices(&[XyzRhwDiffuse {
+            position: [80.0, 110.0, 0.5, 1.0],
+            diffuse: 0xFFFFFFFF,
+        }])
+    });
+}
+
+#[test]
+fn spec_2_2_point_scale() {
+    let mut r = Rng(77);
+    let pts: Vec<XyzPsizeDiffuse> = (0..300)
+        .map(|_| {
+            let z = r.range(1.5, 60.0);
+            XyzPsizeDiffuse {
+                position: [r.range(-z, z), r.range(-z, z), z],
+                psize: r.range(0.0, 0.4),
+                diffuse: r.color() | 0xFF00_0000,
+            }
+        })
+        .collect();
+    for (name, a, b, c) in [
+        ("a", 1.0f32, 0.0f32, 0.0f32),
+        ("b", 0.0, 1.0, 0.0),
+        ("c", 0.0, 0.0, 1.0),
+        ("mixed", 0.5, 0.25, 0.0625),
+    ] {
+        check(
+            &format!("spec_2_2_scale_{name}"),
+            160,
+            130,
+            Tolerance::Exact,
+            |d| {
+                perspective(d, 64.0 / 48.0);
+                d.set_viewport(Viewport {
+                    x: 20,
+                    y: 30,
+                    width: 128,
+                    height: 96,
+                    min_z: 0.0,
+                    max_z: 1.0,
+                })?;
+                d.set_render_state(RenderState::POINTSCALEENABLE, true);
+                d.set_render_state(RenderState::POINTSCALE_A, a);
+                d.set_render_state(RenderState::POINTSCALE_B, b);
+                d.set_render_state(RenderState::POINTSCALE_C, c);
+                d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+                d.draw_vertices(&pts)
+            },
+        );
+    }
+}
+
+/// SPEC 2.2 with an attenuation so large that `1 / (A + B*De + C*De^2)` is a subnormal number
+/// (the sum between 2^126 and 2^128): the arithmetic is IEEE's on both backends, so the
+/// subnormal is kept (a GPU flushing it to zero drew nothing), and a huge POINTSIZE brings the
+/// sizes back to a few pixels.
+#[test]
+fn spec_2_2_point_scale_with_a_subnormal_attenuation() {
+    let mut r = Rng(22_126);
+    let pts: Vec<XyzDiffuse> = (0..200)
+        .map(|_| {
+            // Eye distances in [2.9, 11.06]: B * De stays in (2^126, 2^128).
+            let z = r.range(2.9, 10.0);
+            XyzDiffuse {
+                position: [r.range(-z, z) / 3.0, r.range(-z, z) / 3.0, z],
+                diffuse: r.color() | 0xFF00_0000,
+            }
+        })
+        .collect();
+    check(
+        "spec_2_2_subnormal_attenuation",
+        128,
+        96,
+        Tolerance::Exact,
+        |d| {
+            perspective(d, 128.0 / 96.0);
+            d.set_render_state(RenderState::POINTSCALEENABLE, true);
+            d.set_render_state(RenderState::POINTSCALE_A, 0.0f32);
+            d.set_render_state(RenderState::POINTSCALE_B, 3.0e37f32);
+            d.set_render_state(RenderState::POINTSCALE_C, 0.0f32);
+            d.set_render_state(RenderState::POINTSIZE, 4.2e17f32);
+            d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+            d.draw_vertices(&pts)
+        },
+    );
+    // And where `Vh * Si` overflows to infinity: infinity times the subnormal's root is
+    // infinite, so the size clamps to POINTSIZE_MAX (a flushed root gave NaN, no point).
+    check(
+        "spec_2_2_subnormal_attenuation_infinite_size",
+        128,
+        96,
+        Tolerance::Exact,
+        |d| {
+            perspective(d, 128.0 / 96.0);
+            d.set_render_state(RenderState::POINTSCALEENABLE, true);
+            d.set_render_state(RenderState::POINTSCALE_A, 0.0f32);
+            d.set_render_state(RenderState::POINTSCALE_B, 3.0e37f32);
+            d.set_render_state(RenderState::POINTSCALE_C, 0.0f32);
+            d.set_render_state(RenderState::POINTSIZE, f32::MAX);
+            d.set_render_state(RenderState::POINTSIZE_MAX, 3.687_391f32);
+            d.draw_vertices(&pts[..40])
+        },
+    );
+}
+
+/// SPEC 2.2 and `pretransformed_point_scale`: pre-transformed points with PSIZE under
+/// POINTSCALEENABLE, on both backends under each option; under `screen_position` the sizes
+/// follow the screen position's length (the image differs from `ignored`'s).
+#[test]
+fn spec_2_2_pretransformed_point_scale_behaviour() {
+    let mut r = Rng(2_207);
+    let pts: Vec<XyzRhwPsizeDiffuse> = (0..200)
+        .map(|_| XyzRhwPsizeDiffuse {
+            position: [
+                r.range(-8.0, 168.0),
+                r.range(-8.0, 138.0),
+                r.range(0.0, 1.0),
+                1.0,
+            ],
+            psize: r.range(0.0, 24.0),
+            diffuse: r.color() | 0xFF00_0000,
+        })
+        .collect();
+    let scene = |d: &mut AnyDevice| {
+        d.set_viewport(Viewport {
+            x: 10,
+            y: 6,
+            width: 140,
+            height: 110,
+            min_z: 0.0,
+            max_z: 1.0,
+        })?;
+        d.set_render_state(RenderState::POINTSCALEENABLE, true);
+        d.set_render_state(RenderState::POINTSCALE_A, 0.5f32);
+        d.set_render_state(RenderState::POINTSCALE_B, 0.25f32);
+        d.set_render_state(RenderState::POINTSCALE_C, 0.0625f32);
+        d.set_render_state(RenderState::POINTSIZE_MIN, 0.0f32);
+        d.draw_vertices(&pts)
+    };
+    let mut images = Vec::new();
+    for option in ["ignored", "screen_position"] {
+        let mut desc = DeviceDesc::new(160, 130);
+        desc.behaviours
+            .set("pretransformed_point_scale", option)
+            .unwrap();
+        check_desc(
+            &format!("spec_2_2_pretransformed_scale_{option}"),
+            desc,
+            Tolerance::Exact,
+            scene,
+        );
+        images.push(pointillist_testkit::cpu(desc, &scene).color);
+    }
+    assert_ne!(images[0], images[1], "the option changes the sizes");
 }
