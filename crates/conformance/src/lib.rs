@@ -18,6 +18,7 @@ pub mod classify;
 pub mod compare;
 pub mod expect;
 pub mod export;
+pub mod pack;
 pub mod report;
 pub mod runner;
 
