@@ -1,18 +1,16 @@
 //! `pointillist export-calls` and `pointillist conform`: the conformance kit
 //! (`pointillist-conformance`, docs/CONFORMANCE.md) on the command line.
 
-use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Duration;
 
 use pointillist_conformance::runner::{Runner, Watch};
 use pointillist_conformance::{Options, conform_with, export, find_cases};
-use pointillist_image::output::Destination;
 
 use crate::interrupt::ChildGuard;
 use crate::report::printable;
-use crate::{ConformArgs, ExportCallsArgs};
+use crate::{CapturePackArgs, ConformArgs, ExportCallsArgs};
 
 /// Exit status of `conform` when a case ends otherwise than expected.
 const UNEXPECTED: u8 = 1;
@@ -36,24 +34,7 @@ pub fn run_export(args: &ExportCallsArgs) -> Result<(), String> {
         return Ok(());
     }
     let cases = find_cases(&args.scenes)?;
-    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-    let (mut files, mut inputs, mut list) = (Vec::new(), Vec::new(), String::new());
-    for case in &cases {
-        let scene = pointillist_scene::load(&case.scene).map_err(|e| e.to_string())?;
-        inputs.extend_from_slice(&scene.inputs);
-        let path = out.join(format!("{}.calls", case.name));
-        files.push(export::export_pending(&scene, args.frame, &path)?.1);
-        list.push_str(&format!("{}.calls\n", case.name));
-    }
-    let list_path = out.join("list.txt");
-    let mut list_file = Destination::check(&list_path, &inputs)
-        .and_then(|d| d.create())
-        .map_err(|e| e.to_string())?;
-    list_file
-        .write_all(list.as_bytes())
-        .map_err(|e| format!("{}: {e}", list_path.display()))?;
-    files.push(list_file);
-    export::commit_outside(files, &inputs)?;
+    export::export_cases(&cases, args.frame, out)?;
     crate::report::outln!(
         "wrote {} call streams and list.txt to {}",
         cases.len(),
@@ -84,6 +65,25 @@ pub fn run_page(args: &crate::ConformPageArgs) -> Result<(), String> {
         s.split,
         s.none_match,
         args.out.join("index.html").display()
+    );
+    Ok(())
+}
+
+/// Runs `pointillist capture-pack`: the pack of the cases of the paths given, in the new or
+/// empty folder OUT (`pointillist_conformance::pack`).
+pub fn run_pack(args: &CapturePackArgs) -> Result<(), String> {
+    let out = &args.output;
+    let pack = pointillist_conformance::pack::write_pack(&args.paths, out, !args.no_build)?;
+    let shown = printable(&out.display().to_string());
+    let exe = if pack.built {
+        "replayer.exe"
+    } else {
+        "no replayer.exe (--no-build: build it as source/BUILD.txt says)"
+    };
+    crate::report::outln!(
+        "wrote the capture pack {shown}: {} call streams, {exe}, source/, run.bat, README.txt; \
+         copy the folder to a Windows PC and double-click run.bat there",
+        pack.cases
     );
     Ok(())
 }

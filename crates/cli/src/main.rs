@@ -147,6 +147,9 @@ enum Command {
     /// Show several devices' conform reports side by side on one page.
     #[command(long_about = CONFORM_PAGE_LONG_ABOUT, after_help = CONFORM_PAGE_EXAMPLES)]
     ConformPage(ConformPageArgs),
+    /// Write a folder to copy to a Windows PC: run.bat there captures its Direct3D 9's images.
+    #[command(long_about = PACK_LONG_ABOUT, after_help = PACK_EXAMPLES)]
+    CapturePack(CapturePackArgs),
     /// List the device behaviour switches: where real D3D9 devices differ, and the evidence.
     #[command(long_about = BEHAVIOURS_LONG_ABOUT)]
     Behaviours(BehavioursArgs),
@@ -266,6 +269,43 @@ pub struct ConformPageArgs {
     /// The page's folder.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
+}
+
+/// The long description of `pointillist capture-pack --help`.
+const PACK_LONG_ABOUT: &str = "\
+Write a capture pack: a folder to copy to a Windows PC, where double-clicking run.bat replays
+the scenes on the PC's own Direct3D 9 (its graphics card and driver) and keeps what it drew in
+captures\\ADAPTER-DRIVERVERSION-Windows_VERSION, to zip and send back (docs/CONFORMANCE.md,
+\"Check a Windows machine's hardware\").
+
+The folder holds streams/ (NAME.calls per case and list.txt, as export-calls writes them),
+replayer.exe (built with x86_64-w64-mingw32-gcc; --no-build leaves it out), source/ (replayer.c
+and BUILD.txt, its one-line MSVC and MinGW builds), run.bat (plain cmd.exe) and README.txt, for
+whoever runs it. Compare a returned folder with
+  pointillist conform PATH... --captures FOLDER --report REPORT
+given the same PATHs, so that the case names agree.
+
+OUT must be a new or an empty folder: nothing is written over. The pack is made beside it in a
+temporary folder and renamed to OUT only when whole.";
+
+/// Examples shown at the end of `pointillist capture-pack --help`.
+const PACK_EXAMPLES: &str = "\
+Examples:
+  pointillist capture-pack crates/conformance/cases -o pointillist-capture-pack
+  pointillist capture-pack scenes/ring.toml crates/conformance/cases/2-size -o pack --no-build";
+
+/// Arguments of `pointillist capture-pack`.
+#[derive(Debug, Args)]
+pub struct CapturePackArgs {
+    /// Scene files and folders of them.
+    #[arg(value_name = "PATH", required = true)]
+    pub paths: Vec<PathBuf>,
+    /// The folder to write (new or empty).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+    /// Leave replayer.exe out (no MinGW needed); README.txt says how to build it.
+    #[arg(long)]
+    pub no_build: bool,
 }
 
 /// Arguments of `pointillist export-calls`.
@@ -649,6 +689,7 @@ fn main() -> ExitCode {
         Command::ExportCalls(args) => conform::run_export(args),
         Command::Conform(args) => return conform::run_conform(args),
         Command::ConformPage(args) => conform::run_page(args),
+        Command::CapturePack(args) => conform::run_pack(args),
         Command::Behaviours(args) => behaviours::run(args),
     };
     match result {

@@ -463,6 +463,31 @@ pub fn export_pending(
     Ok((exported, file))
 }
 
+/// Exports `cases` with their own caps into the folder `out` (created when missing): `NAME.calls`
+/// each and `list.txt`, the replayer's argument file (`replayer OUTDIR @list.txt`), one stream
+/// name a line. The streams are written under temporary names as they are made and put in place
+/// only when all are whole and none of them is a file a scene reads; the first error stops it.
+pub fn export_cases(cases: &[crate::Case], frame: Option<u32>, out: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
+    let (mut files, mut inputs, mut list) = (Vec::new(), Vec::new(), String::new());
+    for case in cases {
+        let scene = pointillist_scene::load(&case.scene).map_err(|e| e.to_string())?;
+        inputs.extend_from_slice(&scene.inputs);
+        let path = out.join(format!("{}.calls", case.name));
+        files.push(export_pending(&scene, frame, &path)?.1);
+        list.push_str(&format!("{}.calls\n", case.name));
+    }
+    let list_path = out.join("list.txt");
+    let mut list_file = Destination::check(&list_path, &inputs)
+        .and_then(|d| d.create())
+        .map_err(|e| e.to_string())?;
+    list_file
+        .write_all(list.as_bytes())
+        .map_err(|e| format!("{}: {e}", list_path.display()))?;
+    files.push(list_file);
+    commit_outside(files, &inputs)
+}
+
 /// Puts `files` in place, all or none, once none of them is one of `inputs` (the files of every
 /// scene exported with them): a stream never replaces a file another scene reads.
 pub fn commit_outside(files: Vec<PendingFile>, inputs: &[PathBuf]) -> Result<(), String> {

@@ -19,6 +19,7 @@ pub mod compare;
 pub mod dll;
 pub mod expect;
 pub mod export;
+pub mod pack;
 pub mod page;
 pub mod report;
 pub mod runner;
