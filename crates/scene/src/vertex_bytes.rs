@@ -18,15 +18,17 @@ use memmap2::{Mmap, MmapOptions};
 /// after the file's length was checked; nothing is copied into the process. The file stays open
 /// for as long as the bytes live, and its length is checked again after the map is made
 /// ([`crate::parse`]) and before and after each draw that reads it ([`crate::Scene::replay`]):
-/// a file whose size changed gives an error naming it.
+/// a file whose size changed gives an error naming it. Code that reads the bytes itself, outside
+/// a replay, calls [`VertexBytes::check_unchanged`] first.
 ///
 /// What a map cannot protect against, and the checks only narrow:
 /// - A file **truncated while a draw reads it** (another process shortening it in place between
 ///   the check before the draw and the draw's last read) makes the draw's read of a page past
 ///   the new end fault, and the process dies of `SIGBUS`, as any program reading a mapped file
 ///   does. A private map (`MAP_PRIVATE`) does not help: truncation unmaps the file's pages from
-///   private maps too (tried on Linux 6.x, with `MAP_POPULATE` as well). Only a copy would; the
-///   copy is what this type saves (about a fifth of `render`'s time for W1, docs/PERFORMANCE.md).
+///   private maps too (tried on Linux 6.18, with `MAP_POPULATE` as well). Only a copy would, and
+///   the copy is what this type saves (a quarter of `render`'s CPU time for W1, measured in
+///   docs/PERFORMANCE.md).
 ///   Replacing the file (writing a new one and renaming it over the old, as most tools do) is
 ///   safe: the map keeps the old file's pages.
 /// - A file **rewritten in place at the same length** during a draw changes the vertices that
