@@ -304,8 +304,9 @@ fn light_call(index: u32, l: &Light) -> Call {
     }
 }
 
-/// Writes the scene's own calls literally; `view` replaces every VIEW the scene sets.
-fn write_steps(rec: &mut Recorder, scene: &Scene, view: Option<Mat4>) {
+/// Writes the scene's own calls literally; `view` replaces every VIEW the scene sets. The error:
+/// a vertex file that changed size since the scene was read ([`pointillist_scene::VertexBytes`]).
+fn write_steps(rec: &mut Recorder, scene: &Scene, view: Option<Mat4>) -> Result<(), String> {
     if scene.api != Api::D3d9 {
         // Only the API's defaults are written: a behaviour's default (POINTSIZE_MAX) is the
         // device's own, what the kit classifies.
@@ -372,6 +373,10 @@ fn write_steps(rec: &mut Recorder, scene: &Scene, view: Option<Mat4>) {
                 enable: *enable,
             },
             Command::Draw { fvf, vertices } => {
+                // A mapped vertex file shortened since the parse is an error, not a SIGBUS.
+                vertices
+                    .check_unchanged()
+                    .map_err(|e| step.origin.error(&scene.file, e).to_string())?;
                 if !vertices.is_empty() {
                     rec.writer.draw_points(fvf.0, fvf.stride() as u32, vertices);
                 }
@@ -380,6 +385,7 @@ fn write_steps(rec: &mut Recorder, scene: &Scene, view: Option<Mat4>) {
         };
         rec.writer.call(&call);
     }
+    Ok(())
 }
 
 /// Exports `scene` for a device with `caps` (the vertex processing flag of the header comes
@@ -422,7 +428,7 @@ pub fn export(
         .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
     match frame {
         None => {
-            write_steps(device.backend_mut(), scene, None);
+            write_steps(device.backend_mut(), scene, None)?;
             scene.replay(&mut device).map_err(|e| e.to_string())?;
         }
         Some(frame) => {
@@ -433,7 +439,7 @@ pub fn export(
                 .animation
                 .view_at(f64::from(frame) / f64::from(scene.animation.fps))
                 .map_err(|e| format!("{name}: {e}"))?;
-            write_steps(device.backend_mut(), scene, view);
+            write_steps(device.backend_mut(), scene, view)?;
             scene
                 .replay_with_view(&mut device, view)
                 .map_err(|e| e.to_string())?;

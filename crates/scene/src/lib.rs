@@ -5,7 +5,10 @@
 //! - [`load`] reads a scene file; [`parse`] reads scene text, with the file name used in errors
 //!   and to resolve relative `file =` paths (textures, vertex buffers), which are relative to the
 //!   scene file's folder. Both read everything up front: textures are decoded (once per file,
-//!   shared through `Arc`), vertex rows are encoded to FVF bytes, vertex files are read.
+//!   shared through `Arc`), vertex rows are encoded to FVF bytes, vertex files are mapped from
+//!   the page cache without a copy ([`VertexBytes`]: their length is checked again before and
+//!   after each draw that reads them, and what a file changing underneath does is documented
+//!   there).
 //! - A [`Scene`] is the device to create ([`Scene::device_desc`]) and an ordered list of
 //!   [`Step`]s: D3D calls in the order the program issues them. The list starts with a clear to
 //!   the target's clear colour and depth, then the top-level state (render states, stage and
@@ -35,6 +38,7 @@ pub mod case;
 mod error;
 mod parse;
 mod reader;
+mod vertex_bytes;
 pub mod work;
 
 use std::path::{Path, PathBuf};
@@ -52,6 +56,7 @@ use pointillist_particles::{DrawBuffers, Emitter, ParticleSystem, SystemConfig};
 
 pub use case::{Case, Expect, Others, list_cases};
 pub use error::{Origin, SceneError, printable};
+pub use vertex_bytes::VertexBytes;
 
 /// The largest render target side a scene may ask for, in pixels.
 pub const MAX_TARGET_SIZE: u32 = pointillist_core::MAX_TARGET_SIZE;
@@ -174,8 +179,9 @@ pub enum Command {
     Draw {
         /// The vertex format.
         fvf: Fvf,
-        /// Little-endian vertex bytes, `fvf.stride()` per vertex.
-        vertices: Vec<u8>,
+        /// Little-endian vertex bytes, `fvf.stride()` per vertex: encoded rows, or a mapped raw
+        /// vertex file.
+        vertices: VertexBytes,
     },
 }
 
@@ -587,7 +593,12 @@ impl Scene {
                 }
                 Command::LightEnable { index, enable } => device.light_enable(*index, *enable),
                 Command::Draw { fvf, vertices } => {
+                    // A mapped vertex file's length, checked on both sides of the draw: a file
+                    // shortened before the draw is an error, not a SIGBUS (see VertexBytes).
+                    let changed = |e: String| step.origin.error(&self.file, e);
+                    vertices.check_unchanged().map_err(changed)?;
                     device.draw_point_list(*fvf, vertices).map_err(fail)?;
+                    vertices.check_unchanged().map_err(changed)?;
                 }
             }
         }
@@ -699,3 +710,5 @@ mod tests_lighting;
 mod tests_limits;
 #[cfg(test)]
 mod tests_particles;
+#[cfg(test)]
+mod tests_vertex_file;

@@ -14,7 +14,7 @@ use pointillist_core::states::{
 };
 use pointillist_core::{TransformType, Viewport};
 
-use crate::{Command, Scene, parse};
+use crate::{Command, Scene, VertexBytes, parse};
 
 /// The scene file name the tests parse under: relative files are found in `tests/data/`.
 pub(crate) const FILE: &str = "tests/data/test.toml";
@@ -503,11 +503,16 @@ fn draws_rows_files_and_per_draw_changes_in_order() {
         vertices,
         &std::fs::read("tests/data/two_points.bin").unwrap()
     );
+    // The file is mapped, not copied.
+    assert_eq!(
+        vertices.mapped_file(),
+        Some(Path::new("tests/data/two_points.bin"))
+    );
     assert_eq!(
         c[9],
         &Command::Draw {
             fvf: Fvf::XYZ,
-            vertices: vec![]
+            vertices: VertexBytes::default()
         }
     );
     // Origins point at the [[draw]] header and the state's value.

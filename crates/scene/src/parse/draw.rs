@@ -9,7 +9,7 @@ use super::{Charge, DRAW_KEYS, Parser, check_readable};
 use crate::reader::{
     Source, Value, array, expected, fields, index, integer, number, string, u32_value,
 };
-use crate::{Command, SceneError};
+use crate::{Command, SceneError, VertexBytes};
 
 impl Parser<'_> {
     pub(super) fn draw(&mut self, v: &Value<'_>, path: &str) -> Result<(), SceneError> {
@@ -35,7 +35,7 @@ impl Parser<'_> {
                     &key,
                     "these vertices",
                 )?;
-                bytes
+                bytes.into()
             }
             (None, Some(file)) => self.vertex_file(fvf, file, &f.path("file"))?,
             (None, None) => {
@@ -53,9 +53,15 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// Reads a raw vertex file, after checking from its length that it holds whole vertices, at
-    /// most [`MAX_DRAW_VERTICES`] of them, within [`MEMORY_BUDGET`] (SCENE.md, `file =`).
-    fn vertex_file(&mut self, fvf: Fvf, v: &Value<'_>, path: &str) -> Result<Vec<u8>, SceneError> {
+    /// Maps a raw vertex file ([`VertexBytes`]), after checking from its length that it holds
+    /// whole vertices, at most [`MAX_DRAW_VERTICES`] of them, within [`MEMORY_BUDGET`] (SCENE.md,
+    /// `file =`).
+    fn vertex_file(
+        &mut self,
+        fvf: Fvf,
+        v: &Value<'_>,
+        path: &str,
+    ) -> Result<VertexBytes, SceneError> {
         let src = &self.src;
         let name = string(src, v, path)?;
         let file = self.base.join(name);
@@ -85,25 +91,7 @@ impl Parser<'_> {
             ));
         }
         self.charge(Charge::Vertices, len, v, path, "this vertex file")?;
-        let bytes = std::fs::read(&file).map_err(|e| {
-            self.src.error(
-                &v.span(),
-                path,
-                format!("cannot read vertex file `{}`: {e}", file.display()),
-            )
-        })?;
-        if bytes.len() as u64 != len {
-            return Err(self.src.error(
-                &v.span(),
-                path,
-                format!(
-                    "vertex file `{}` changed while it was read ({len} bytes, then {})",
-                    file.display(),
-                    bytes.len()
-                ),
-            ));
-        }
-        Ok(bytes)
+        VertexBytes::read_file(&file, len).map_err(|e| self.src.error(&v.span(), path, e))
     }
 }
 
