@@ -700,15 +700,3 @@ impl Scene {
 
 #[cfg(test)]
 mod tests;
-#[cfg(test)]
-mod tests_case;
-#[cfg(test)]
-mod tests_hostile;
-#[cfg(test)]
-mod tests_lighting;
-#[cfg(test)]
-mod tests_limits;
-#[cfg(test)]
-mod tests_particles;
-#[cfg(test)]
-mod tests_vertex_file;

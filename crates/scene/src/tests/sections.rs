@@ -1,6 +1,5 @@
-//! Unit tests: every section with inline TOML, exact error messages, and a replay on the CPU
-//! backend. Files named by the scenes live in `tests/data/` (paths relative to the crate root,
-//! where `cargo test` runs).
+//! Every section of a scene file with inline TOML, exact error messages, and a replay on the
+//! CPU backend.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -14,29 +13,10 @@ use pointillist_core::states::{
 };
 use pointillist_core::{TransformType, Viewport};
 
+use super::{FILE, HEAD, err, ok};
 use crate::{Command, Scene, VertexBytes, parse};
 
-/// The scene file name the tests parse under: relative files are found in `tests/data/`.
-pub(crate) const FILE: &str = "tests/data/test.toml";
-
-/// Four lines: the required keys, a 64x32 target.
-pub(crate) const HEAD: &str = "format = 1\n[target]\nwidth = 64\nheight = 32\n";
-
-/// `HEAD` + `body`, parsed.
-pub(crate) fn ok(body: &str) -> Scene {
-    let src = format!("{HEAD}{body}");
-    parse(&src, Path::new(FILE)).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The one-line error of `HEAD` + `body`.
-pub(crate) fn err(body: &str) -> String {
-    let src = format!("{HEAD}{body}");
-    match parse(&src, Path::new(FILE)) {
-        Ok(_) => panic!("parsed:\n{src}"),
-        Err(e) => e.to_string(),
-    }
-}
-
+/// The scene's commands in order.
 fn commands(s: &Scene) -> Vec<&Command> {
     s.steps.iter().map(|s| &s.command).collect()
 }
