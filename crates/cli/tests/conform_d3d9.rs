@@ -13,7 +13,7 @@ use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use common::{TempDir, command, path_arg, stderr, stdout};
+use common::{TempDir, command, kit_error, path_arg, stderr, stdout};
 
 const POINT: &str = "format = 1\n[target]\nwidth = 8\nheight = 4\n[[draw]]\n\
     fvf = \"XYZRHW | DIFFUSE\"\nvertices = [[4.0, 2.0, 0.5, 1.0, 0xFFFF0000]]\n";
@@ -78,14 +78,6 @@ fn conform_with_env(args: &[&str], path: &Path, env: &[(&str, &str)]) -> Output 
         c.env(k, v);
     }
     c.output().unwrap()
-}
-
-fn kit_error(o: &Output) -> String {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert_eq!(err.lines().count(), 1, "one line: {err}");
-    assert!(err.starts_with("error: "), "{err}");
-    err
 }
 
 #[test]

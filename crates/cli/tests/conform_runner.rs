@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{TempDir, command, path_arg, stderr, stdout};
+use common::{TempDir, command, kit_error, path_arg, stderr, stdout};
 
 const POINT: &str = "format = 1\n[target]\nwidth = 8\nheight = 4\n[[draw]]\n\
     fvf = \"XYZRHW | DIFFUSE\"\nvertices = [[4.0, 2.0, 0.5, 1.0, 0xFFFF0000]]\n";
@@ -81,15 +81,6 @@ fn wait_within(mut child: Child, limit: Duration) -> Output {
 /// `pointillist conform ARGS`, ended and failed after 60 s.
 fn conform(args: &[&str]) -> Output {
     run_within(command().arg("conform").args(args), Duration::from_secs(60))
-}
-
-/// The one error line of a run that could not happen (exit status 2).
-fn kit_error(o: &Output) -> String {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert_eq!(err.lines().count(), 1, "one line: {err}");
-    assert!(err.starts_with("error: "), "{err}");
-    err
 }
 
 /// Whether process `pid` is gone (or a zombie), waiting up to two seconds.
