@@ -6,7 +6,7 @@
 //!
 //! The pack holds:
 //! - `streams/`: `NAME.calls` per case and `list.txt`, as `export-calls` writes a folder;
-//! - `replayer.exe`, built with [`runner::MINGW_CC`](crate::runner::MINGW_CC) (unless asked not
+//! - `replayer.exe`, built with [`runner::MINGW_CC`] (unless asked not
 //!   to);
 //! - `source/`: `replayer.c` and `BUILD.txt`, its one-line MSVC and MinGW builds;
 //! - `run.bat`: plain `cmd.exe` (nothing Wine's `cmd` lacks), which runs the replayer from
