@@ -332,20 +332,45 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
             })
             .unwrap()
     };
+    // Every case has these keys; `title`, `images`, `explanation` and `options` only when it
+    // has them (what `conform-page` reads).
+    let always = [
+        "max_channel_difference",
+        "message",
+        "name",
+        "pixels_differing",
+        "rules",
+        "scene",
+        "status",
+        "unexpected",
+    ];
     for c in cases {
-        let mut keys: Vec<&str> = c.as_object().unwrap().keys().map(String::as_str).collect();
-        keys.sort_unstable();
-        assert_eq!(
-            keys,
-            [
-                "max_channel_difference",
-                "message",
-                "pixels_differing",
-                "scene",
-                "status"
-            ]
-        );
+        let keys: Vec<&str> = c.as_object().unwrap().keys().map(String::as_str).collect();
+        for k in always {
+            assert!(keys.contains(&k), "{k} missing: {keys:?}");
+        }
+        for k in &keys {
+            assert!(
+                always.contains(k) || ["title", "images", "explanation", "options"].contains(k),
+                "unknown key {k}"
+            );
+        }
     }
+    let changed_case = by_scene("changed");
+    assert_eq!(changed_case["name"], "changed");
+    assert_eq!(changed_case["unexpected"], serde_json::Value::Null);
+    assert_eq!(
+        changed_case["images"],
+        serde_json::json!({"pointillist": "img/changed.pointillist.png",
+            "device": "img/changed.device.png", "diff": "img/changed.diff.png"})
+    );
+    assert_eq!(
+        changed_case["explanation"],
+        serde_json::json!({"d3d9": "orange", "implementation": "a greener orange"})
+    );
+    assert!(by_scene("missing")["unexpected"].is_string());
+    assert!(by_scene("missing").get("images").is_none());
+    assert_eq!(json["implementation"], "the test device");
     assert_eq!(by_scene("big")["status"], "match");
     assert_eq!(by_scene("changed")["status"], "differs");
     assert_eq!(by_scene("changed")["pixels_differing"], 1);
