@@ -100,19 +100,8 @@ impl Backend for CpuBackend {
         color: u32,
         depth: f32,
     ) -> Result<(), DeviceError> {
-        // Zeroed memory the allocator gets fresh from the kernel (calloc: no page is touched
-        // yet), and the creation colour and depth as a deferred clear, which the first draw
-        // writes band by band (or the first read whole): each page is written once, not filled
-        // here and then cleared again by the scene's first clear. The pending clear of an old
-        // target is replaced.
-        let n = width as usize * height as usize;
-        self.target = RenderTarget {
-            width,
-            height,
-            color: vec![0; n],
-            depth: vec![0.0; n],
-        };
-        self.pending_clear = Some((color, depth));
+        self.target = RenderTarget::new(width, height, color, depth);
+        self.pending_clear = None; // it was for the old target
         Ok(())
     }
 
