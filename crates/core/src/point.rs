@@ -41,6 +41,13 @@ pub fn screen_distance(x: f32, y: f32, z: f32) -> f32 {
     (x * x + y * y + z * z).sqrt()
 }
 
+/// The clip-space w of a pre-transformed vertex with reciprocal `rhw`, as table fog's w
+/// distance reads it (SPEC 9.5, [`FogDepth::w`]): `1 / RHW`, and 1 when RHW is 0.
+#[inline]
+pub fn pretransformed_w(rhw: f32) -> f32 {
+    if rhw == 0.0 { 1.0 } else { 1.0 / rhw }
+}
+
 /// SPEC 3.1 and 8.3 with the `xyzw_input_w` behaviour: true when a vertex's fourth position
 /// float is read: the RHW of a pre-transformed vertex, and the w of an XYZW one under `used`
 /// (under `ignored`, the default, an XYZW position is (x, y, z, 1), as hardware draws it).
@@ -607,7 +614,7 @@ impl PointSetup {
             if !self.keeps_pretransformed(z, rhw) {
                 return None;
             }
-            let w = if rhw == 0.0 { 1.0 } else { 1.0 / rhw };
+            let w = pretransformed_w(rhw);
             let size = self.size(si, screen_distance(x, y, z));
             (x, y, z, size, None, [0.0; 3], w)
         } else {
@@ -622,27 +629,12 @@ impl PointSetup {
         if rect.is_empty() {
             return None; // SPEC 3.2 and 2.5
         }
-        let vertex_diffuse = self.layout.diffuse.map(|o| read_u32(v, o));
-        let vertex_specular = self.layout.specular.map(|o| read_u32(v, o));
-        let diffuse = vertex_diffuse.unwrap_or(crate::color::WHITE);
-        let specular = vertex_specular.unwrap_or(0);
-        let (diffuse, specular) = match &self.lighting {
-            Some(l) => {
-                let normal = self.layout.normal.map_or([0.0; 3], |o| {
-                    [read_f32(v, o), read_f32(v, o + 4), read_f32(v, o + 8)]
-                });
-                l.light(eye, normal, diffuse, specular)
-            }
-            None => (diffuse, specular),
+        let depth = FogDepth {
+            z,
+            w,
+            clip_z: clip.map_or(z, |c| c[2] / c[3]),
         };
-        let fog = self.fog.as_ref().map_or(1.0, |f| {
-            let depth = FogDepth {
-                z,
-                w,
-                clip_z: clip.map_or(z, |c| c[2] / c[3]),
-            };
-            f.factor(eye, &depth, vertex_specular)
-        });
+        let (diffuse, specular, fog) = self.colors(v, eye, &depth);
         let mut point = ScreenPoint {
             x,
             y,
@@ -664,6 +656,32 @@ impl PointSetup {
             return None;
         }
         Some(point)
+    }
+
+    /// SPEC 8 and 9.1 to 9.5: the diffuse and specular colours and the fog factor of vertex `v`
+    /// (its bytes) whose eye-space position is `eye` (zeros for a pre-transformed vertex) and
+    /// whose table-fog distances are `depth`: the vertex's colours (white and black where it
+    /// has none), lit when the draw is lit, and a fog factor of 1 when FOGENABLE is off.
+    #[inline]
+    pub fn colors(&self, v: &[u8], eye: [f32; 3], depth: &FogDepth) -> (u32, u32, f32) {
+        let vertex_diffuse = self.layout.diffuse.map(|o| read_u32(v, o));
+        let vertex_specular = self.layout.specular.map(|o| read_u32(v, o));
+        let diffuse = vertex_diffuse.unwrap_or(crate::color::WHITE);
+        let specular = vertex_specular.unwrap_or(0);
+        let (diffuse, specular) = match &self.lighting {
+            Some(l) => {
+                let normal = self.layout.normal.map_or([0.0; 3], |o| {
+                    [read_f32(v, o), read_f32(v, o + 4), read_f32(v, o + 8)]
+                });
+                l.light(eye, normal, diffuse, specular)
+            }
+            None => (diffuse, specular),
+        };
+        let fog = self
+            .fog
+            .as_ref()
+            .map_or(1.0, |f| f.factor(eye, depth, vertex_specular));
+        (diffuse, specular, fog)
     }
 
     /// SPEC 3.3: applies the enabled user clip planes; false when the point is dropped.

@@ -1,25 +1,29 @@
-//! The per-point stage for the fills that need only a point's square: D3D9's fixed-function
-//! vertex processing of points (SPEC 1, 2, 3.1, 3.2, 4.1), core's [`PointSetup::process`], with
-//! a fast form for the commonest draws ([`VertexProcessing`]: no user clip planes, lighting or
-//! fog) that resolves everything per draw and keeps nothing the fills do not read. Vertices go
-//! N at a time, one a lane, on the level [`Level`] chose, then transformed ones four at a time
-//! on SSE2 where x86-64 has it, the rest one at a time.
+//! The per-point stage for the fills that need only a point's square and its diffuse colour
+//! and fog factor: D3D9's fixed-function vertex processing of points (SPEC 1, 2, 3.1, 3.2,
+//! 4.1, 8, 9.1), core's [`PointSetup::process`], with a fast form for every draw without user
+//! clip planes ([`VertexProcessing`]) that resolves everything per draw and keeps nothing the
+//! fills do not read. Vertices go N at a time, one a lane, on the level [`Level`] chose, then
+//! transformed ones four at a time on SSE2 where x86-64 has it, the rest one at a time; a lit
+//! or fogged point's colours are core's [`PointSetup::colors`] of the position the lanes
+//! computed.
 //!
 //! [`VertexProcessing`] is tested against `process` on random and hostile vertices, on every
 //! level the machine has: it drops the same points and gives the same squares, bit for bit.
 
+use pointillist_core::fog::FogDepth;
 use pointillist_core::fvf::{read_f32, read_u32};
 use pointillist_core::point::{
-    PixelPlane, PixelRect, PointSetup, ScreenPoint, screen_distance, written_depth,
+    PixelPlane, PixelRect, PointSetup, ScreenPoint, pretransformed_w, screen_distance,
+    written_depth,
 };
 use pointillist_core::states::Cmp;
 
 use crate::lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
 
 /// What the fills read of a point: its covered rectangle (never empty), depth, size, near
-/// edges, diffuse colour (SPEC 4.1 to 4.3), vertex fog factor (SPEC 9; 1 for the points
-/// [`VertexProcessing`] takes, which are not fogged) and the user clip planes that cut it per
-/// pixel (SPEC 3.3; none for those points).
+/// edges, diffuse colour (SPEC 4.1 to 4.3, lit by SPEC 8), vertex fog factor (SPEC 9; 1
+/// unfogged) and the user clip planes that cut it per pixel (SPEC 3.3; none for the points
+/// [`VertexProcessing`] takes). Not its specular colour: fills that read it run core's stage.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(crate) struct Square<'p> {
     pub rect: PixelRect,
@@ -110,14 +114,15 @@ impl SquareStage {
     }
 }
 
-/// D3D9's fixed-function vertex processing of a point without user clip planes (SPEC 3.3),
-/// lighting (SPEC 8) or fog (SPEC 9), [`PointSetup::process`] for those: the point is its
-/// screen position (SPEC 1; or the pre-transformed one), dropped by SPEC 3.1 and 3.2, its size
-/// (SPEC 2) and its diffuse colour, and becomes its square (SPEC 4.1). One vertex at a time the
-/// rules are core's (`keeps_pretransformed`, `project`, `size`); a batch of vertices, one a
-/// lane, goes through the same operations on [`Lanes`] ([`VertexProcessing::batches`]). What
-/// is resolved here per draw is where the vertex's fields are, whether every point has one
-/// size, and the viewport as float bounds.
+/// D3D9's fixed-function vertex processing of a point without user clip planes (SPEC 3.3;
+/// [`PointSetup::process`] for those): the point is its screen position (SPEC 1; or the
+/// pre-transformed one), dropped by SPEC 3.1 and 3.2, its size (SPEC 2), its diffuse colour
+/// (lit, SPEC 8) and fog factor (SPEC 9), and becomes its square (SPEC 4.1). One vertex at a
+/// time the rules are core's (`keeps_pretransformed`, `project`, `size`, `colors`); a batch of
+/// vertices, one a lane, goes through the same operations on [`Lanes`]
+/// ([`VertexProcessing::batches`]), and a lit or fogged one's colours through core's `colors`
+/// of the lanes' eye position and depths. What is resolved here per draw is where the
+/// vertex's fields are, whether every point has one size, and the viewport as float bounds.
 pub(crate) struct VertexProcessing {
     stride: usize,
     pretransformed: bool,
@@ -130,6 +135,8 @@ pub(crate) struct VertexProcessing {
     /// The size of every point, when it depends on nothing per vertex.
     size: Option<f32>,
     diffuse: Option<usize>,
+    /// The points are lit or fogged (SPEC 8.1, 9.1): their colours are core's `colors`.
+    colors: bool,
     /// The viewport's pixel rectangle as floats, the lower and upper bounds of the edges
     /// `left, top, right, bottom`: `[x0, y0, x0, y0]` and `[x1, y1, x1, y1]`.
     lower: [f32; 4],
@@ -173,11 +180,10 @@ impl Projector {
 }
 
 impl VertexProcessing {
-    /// The fast form for `points`, or `None` when user clip planes apply (SPEC 3.3) or the points'
-    /// colours are not their vertex colours (lighting, SPEC 8.1; fog, SPEC 9.1): core's stage
-    /// computes those.
+    /// The fast form for `points`, or `None` when user clip planes apply (SPEC 3.3): core's
+    /// stage computes those.
     pub(crate) fn new(points: &PointSetup) -> Option<VertexProcessing> {
-        if !points.user_planes().is_empty() || !points.uses_vertex_colors() {
+        if !points.user_planes().is_empty() {
             return None;
         }
         let layout = points.layout();
@@ -195,6 +201,7 @@ impl VertexProcessing {
             size: (psize.is_none() && (points.scale().is_none() || single_pixel))
                 .then(|| points.size(points.point_size(), 0.0)),
             diffuse: layout.diffuse,
+            colors: !points.uses_vertex_colors(),
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
             projector: Projector::new(points),
@@ -235,18 +242,18 @@ impl VertexProcessing {
             Some(size) => size,
             None => points.size(self.psize.map_or(self.point_size, |o| read_f32(v, o)), de),
         };
-        let (x, y, z, size) = if self.pretransformed {
+        let (x, y, z, size, projected) = if self.pretransformed {
             let [x, y, z, rhw] = position;
             if !points.keeps_pretransformed(z, rhw) {
                 return None;
             }
-            (x, y, z, size(screen_distance(x, y, z)))
+            (x, y, z, size(screen_distance(x, y, z)), None)
         } else {
             let p = points.project(position)?;
             if ![p.x, p.y, p.z].iter().all(|c| c.is_finite()) {
                 return None;
             }
-            (p.x, p.y, p.z, size(p.eye_distance))
+            (p.x, p.y, p.z, size(p.eye_distance), Some((p.eye, p.clip)))
         };
         let half = size / 2.0;
         let (left, top) = (x - half, y - half);
@@ -269,16 +276,27 @@ impl VertexProcessing {
         if rect.is_empty() {
             return None;
         }
+        let (diffuse, fog) = if self.colors {
+            let (eye, w, clip_z) = match projected {
+                Some((eye, c)) => (eye, c[3], c[2] / c[3]),
+                None => ([0.0; 3], pretransformed_w(position[3]), z),
+            };
+            let (diffuse, _, fog) = points.colors(v, eye, &FogDepth { z, w, clip_z });
+            (diffuse, fog)
+        } else {
+            let diffuse = self
+                .diffuse
+                .map_or(pointillist_core::color::WHITE, |o| read_u32(v, o));
+            (diffuse, 1.0)
+        };
         Some(Square {
             rect,
             z: written_depth(z),
             size,
             left,
             top,
-            diffuse: self
-                .diffuse
-                .map_or(pointillist_core::color::WHITE, |o| read_u32(v, o)),
-            fog: 1.0,
+            diffuse,
+            fog,
             planes: &[],
         })
     }
@@ -409,7 +427,9 @@ impl VertexProcessing {
                 l.and(finite!(px), finite!(py)),
                 l.and(finite!(pz), finite!(pw)),
             );
-            let (x, y, z, de) = if self.pretransformed {
+            // The eye position, clip w (RHW here for pre-transformed vertices) and clip z / w
+            // that a lit or fogged point's colours read.
+            let (x, y, z, de, eye, w, clip_z) = if self.pretransformed {
                 // `PointSetup::keeps_pretransformed`: RHW positive (or 0 and -0 under the
                 // `zero_rhw` behaviour `drawn`) and, under depth clipping, `0 <= Z <= 1`.
                 let rhw_kept = if points.zero_rhw_drawn() {
@@ -429,7 +449,7 @@ impl VertexProcessing {
                 } else {
                     zero
                 };
-                (px, py, pz, de)
+                (px, py, pz, de, [zero; 3], pw, pz)
             } else {
                 // `PointSetup::project`: clip w positive and finite, the depth inside
                 // `0..=w` under depth clipping, a finite screen position.
@@ -459,9 +479,10 @@ impl VertexProcessing {
                 let x = l.add(l.splat(p.x), l.div(x, two));
                 let y = l.mul(l.sub(one, l.div(c1, c3)), l.splat(p.height));
                 let y = l.add(l.splat(p.y), l.div(y, two));
-                let z = l.add(l.splat(p.min_z), l.mul(l.div(c2, c3), l.splat(p.depth)));
+                let clip_z = l.div(c2, c3);
+                let z = l.add(l.splat(p.min_z), l.mul(clip_z, l.splat(p.depth)));
                 keep = l.and(keep, l.and(l.and(finite!(x), finite!(y)), finite!(z)));
-                (x, y, z, l.sqrt(squares))
+                (x, y, z, l.sqrt(squares), [e0, e1, e2], c3, clip_z)
             };
             let mut kept = l.bits(keep);
             if kept == 0 {
@@ -513,16 +534,24 @@ impl VertexProcessing {
                 let mut floats = [[0f32; MAX_LANES]; 4];
                 // `written_depth`: the depth clamped to 0..1 (-0 kept, as core's).
                 let one = l.splat(1.0);
-                let z = l.select_f(l.cmp(Cmp::Less, z, zero), zero, z);
+                let above = l.select_f(l.cmp(Cmp::Less, z, zero), zero, z);
                 l.store(
                     &mut floats[0],
-                    l.select_f(l.cmp(Cmp::Greater, z, one), one, z),
+                    l.select_f(l.cmp(Cmp::Greater, above, one), one, above),
                 );
                 l.store(&mut floats[1], left);
                 l.store(&mut floats[2], top);
                 l.store(&mut floats[3], size);
                 let mut diffuse = [pointillist_core::color::WHITE; MAX_LANES];
-                if let Some(o) = self.diffuse {
+                // The eye position's x, y, z, the depth, w and clip z / w of lit or fogged
+                // points.
+                let mut depths = [[0f32; MAX_LANES]; 6];
+                if self.colors {
+                    let unclamped = [eye[0], eye[1], eye[2], z, w, clip_z];
+                    for (k, lanes) in unclamped.into_iter().enumerate() {
+                        l.store(&mut depths[k], lanes);
+                    }
+                } else if let Some(o) = self.diffuse {
                     l.store_u(&mut diffuse, field!(o as u32));
                 }
                 while kept != 0 {
@@ -534,6 +563,19 @@ impl VertexProcessing {
                         x1: out[2][i] as i32,
                         y1: out[3][i] as i32,
                     };
+                    let mut fog = 1.0;
+                    if self.colors {
+                        let [e0, e1, e2, z, w, clip_z] = depths.map(|d| d[i]);
+                        let w = if self.pretransformed {
+                            pretransformed_w(w)
+                        } else {
+                            w
+                        };
+                        let base = (index as usize + i) * self.stride;
+                        let v = &vertices[base..base + self.stride];
+                        let depth = FogDepth { z, w, clip_z };
+                        (diffuse[i], _, fog) = points.colors(v, [e0, e1, e2], &depth);
+                    }
                     let square = Square {
                         rect,
                         z: floats[0][i],
@@ -541,7 +583,7 @@ impl VertexProcessing {
                         left: floats[1][i],
                         top: floats[2][i],
                         diffuse: diffuse[i],
-                        fog: 1.0,
+                        fog,
                         planes: &[],
                     };
                     f(index + i as u32, &square);
@@ -588,6 +630,7 @@ mod tests {
     use pointillist_core::caps::Caps;
     use pointillist_core::device::{DeviceDesc, TransformType, Viewport};
     use pointillist_core::fvf::Fvf;
+    use pointillist_core::light::{Light, LightType, Material};
     use pointillist_core::math::Mat4;
     use pointillist_core::states::RenderState;
 
@@ -643,15 +686,61 @@ mod tests {
                 ..DeviceDesc::new(120, 90)
             };
             let mut device = crate::device(desc).unwrap();
-            // Lit or fogged points take core's stage (SPEC 8.1, 9.1): no fast form.
-            assert!(VertexProcessing::new(&PointSetup::new(device.state(), Fvf::XYZ)).is_none());
-            device.set_render_state(RenderState::FOGENABLE, true);
-            assert!(VertexProcessing::new(&PointSetup::new(device.state(), Fvf::XYZRHW)).is_none());
-            device.set_render_state(RenderState::FOGENABLE, false);
-            device.set_render_state(RenderState::LIGHTING, false);
             let rs = |d: &mut crate::CpuDevice, s: RenderState, v: f32| {
                 d.set_render_state(s, v);
             };
+            // Lit points (SPEC 8): ambient, a material, and a directional or point light.
+            let lit = case % 4 == 2;
+            device.set_render_state(RenderState::LIGHTING, lit);
+            if lit {
+                let color = |rng: &mut Rng| [0; 4].map(|_| rng.range(0.0, 1.2));
+                device.set_render_state(RenderState::AMBIENT, rng.next());
+                device.set_material(Material {
+                    diffuse: color(&mut rng),
+                    ambient: color(&mut rng),
+                    specular: color(&mut rng),
+                    emissive: color(&mut rng),
+                    power: rng.range(0.0, 20.0),
+                });
+                device.set_render_state(RenderState::COLORVERTEX, case % 3 == 0);
+                device.set_render_state(RenderState::AMBIENTMATERIALSOURCE, rng.next() % 3);
+                device.set_render_state(RenderState::DIFFUSEMATERIALSOURCE, rng.next() % 3);
+                device.set_render_state(RenderState::SPECULARENABLE, case % 5 == 0);
+                if case % 8 == 2 {
+                    let light = Light {
+                        light_type: [LightType::Directional, LightType::Point][case / 8 % 2],
+                        diffuse: color(&mut rng),
+                        specular: color(&mut rng),
+                        ambient: color(&mut rng),
+                        position: [rng.range(-4.0, 4.0), rng.range(-4.0, 4.0), -3.0],
+                        direction: [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 1.0],
+                        range: 40.0,
+                        attenuation0: 1.0,
+                        attenuation1: rng.range(0.0, 0.3),
+                        ..Light::DEFAULT
+                    };
+                    device.set_light(0, light).unwrap();
+                    device.light_enable(0, true);
+                }
+            }
+            // Fogged points (SPEC 9): vertex fog of each formula, by range or depth, and
+            // table fog, whose per-point factor core's stage also gives.
+            if case % 3 != 0 {
+                device.set_render_state(RenderState::FOGENABLE, true);
+                let mode = 1 + rng.next() % 3;
+                let table = case % 6 == 4;
+                let (used, other) = if table {
+                    (RenderState::FOGTABLEMODE, RenderState::FOGVERTEXMODE)
+                } else {
+                    (RenderState::FOGVERTEXMODE, RenderState::FOGTABLEMODE)
+                };
+                device.set_render_state(used, mode);
+                device.set_render_state(other, 0u32);
+                device.set_render_state(RenderState::RANGEFOGENABLE, case % 4 == 1);
+                rs(&mut device, RenderState::FOGSTART, rng.range(-2.0, 8.0));
+                rs(&mut device, RenderState::FOGEND, rng.range(4.0, 30.0));
+                rs(&mut device, RenderState::FOGDENSITY, rng.range(0.0, 0.5));
+            }
             rs(&mut device, RenderState::POINTSIZE, hostile(&mut rng).abs());
             if case % 3 == 0 {
                 rs(&mut device, RenderState::POINTSIZE_MIN, hostile(&mut rng));
@@ -702,6 +791,10 @@ mod tests {
                 3 => Fvf(Fvf::XYZ.0 | Fvf::DIFFUSE.0),
                 4 => Fvf(Fvf::XYZ.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0),
                 5 => Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0),
+                // Normals for the lights, SPECULAR for fog without a formula (SPEC 9.2).
+                6 if case % 2 == 0 => {
+                    Fvf(Fvf::XYZ.0 | Fvf::NORMAL.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0)
+                }
                 // Twelve bytes: no fourth float to read with the position.
                 _ => Fvf::XYZ,
             };
@@ -736,6 +829,9 @@ mod tests {
                     let k = rng.next() as usize % words.len();
                     words[k] = hostile(&mut rng).to_bits();
                 }
+                if fvf.0 & Fvf::NORMAL.0 != 0 {
+                    words.extend([0; 3].map(|_| rng.range(-1.0, 1.0).to_bits()));
+                }
                 if fvf.has_psize() {
                     words.push(hostile(&mut rng).abs().min(90.0).to_bits());
                     if rng.next().is_multiple_of(4) {
@@ -746,6 +842,9 @@ mod tests {
                 if fvf.0 & Fvf::DIFFUSE.0 != 0 {
                     words.push(rng.next());
                 }
+                if fvf.0 & Fvf::SPECULAR.0 != 0 {
+                    words.push(rng.next());
+                }
                 vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
             }
             let count = (vertices.len() / fvf.stride()) as u32;
@@ -754,7 +853,7 @@ mod tests {
                 s.map(|s| {
                     (
                         s.rect,
-                        [s.z, s.size, s.left, s.top].map(f32::to_bits),
+                        [s.z, s.size, s.left, s.top, s.fog].map(f32::to_bits),
                         s.diffuse,
                     )
                 })
