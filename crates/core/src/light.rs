@@ -225,6 +225,7 @@ impl LightSetup {
     /// SPEC 8.4-8.7: the lit diffuse and specular colours, as D3DCOLORs, of a vertex at
     /// eye-space position `eye` with object-space normal `normal` ([0; 3] without NORMAL) and
     /// vertex colours `diffuse` and `specular` (read only when a material source names them).
+    #[inline]
     pub fn light(
         &self,
         eye: [f32; 3],
@@ -232,17 +233,42 @@ impl LightSetup {
         diffuse: u32,
         specular: u32,
     ) -> (u32, u32) {
-        let n = self.eye_normal(normal);
+        let (lit_diffuse, lit_specular) = self.lit(eye, normal, diffuse, specular);
+        (pack(lit_diffuse), pack(lit_specular))
+    }
+
+    /// [`LightSetup::light`]'s diffuse colour alone, for a stage that does not read the
+    /// specular one.
+    #[inline]
+    pub fn light_diffuse(
+        &self,
+        eye: [f32; 3],
+        normal: [f32; 3],
+        diffuse: u32,
+        specular: u32,
+    ) -> u32 {
+        pack(self.lit(eye, normal, diffuse, specular).0)
+    }
+
+    /// [`LightSetup::light`] before the colours are packed.
+    fn lit(&self, eye: [f32; 3], normal: [f32; 3], diffuse: u32, specular: u32) -> (Rgba, Rgba) {
         let mut amb = [0.0f32; 3];
         let mut diff = [0.0f32; 3];
         let mut spec = [0.0f32; 4];
-        // SPEC 8.6: the direction towards the viewer.
-        let view = if self.local_viewer {
-            normalize3(eye).map(|c| -c)
+        let lights = self.active_lights();
+        // The eye-space normal and SPEC 8.6's direction towards the viewer, which only the
+        // lights read.
+        let (n, view) = if lights.is_empty() {
+            ([0.0; 3], [0.0; 3])
         } else {
-            [0.0, 0.0, -1.0]
+            let view = if self.local_viewer {
+                normalize3(eye).map(|c| -c)
+            } else {
+                [0.0, 0.0, -1.0]
+            };
+            (self.eye_normal(normal), view)
         };
-        for l in self.active_lights() {
+        for l in lights {
             let (to_light, atten) = match l.light_type {
                 LightType::Directional => (l.direction.map(|c| -c), 1.0),
                 LightType::Point | LightType::Spot => {
@@ -316,7 +342,7 @@ impl LightSetup {
             cs[2] * spec[2],
             cs[3] * spec[3],
         ];
-        (pack(lit_diffuse), pack(lit_specular))
+        (lit_diffuse, lit_specular)
     }
 }
 #[cfg(test)]

@@ -664,6 +664,25 @@ impl PointSetup {
     /// has none), lit when the draw is lit, and a fog factor of 1 when FOGENABLE is off.
     #[inline]
     pub fn colors(&self, v: &[u8], eye: [f32; 3], depth: &FogDepth) -> (u32, u32, f32) {
+        self.colors_of::<true>(v, eye, depth)
+    }
+
+    /// [`PointSetup::colors`] without the specular colour, for a stage that does not read it:
+    /// the diffuse colour and the fog factor.
+    #[inline]
+    pub fn diffuse_and_fog(&self, v: &[u8], eye: [f32; 3], depth: &FogDepth) -> (u32, f32) {
+        let (diffuse, _, fog) = self.colors_of::<false>(v, eye, depth);
+        (diffuse, fog)
+    }
+
+    /// [`PointSetup::colors`]; the specular colour is 0 unless `SPECULAR`.
+    #[inline(always)]
+    fn colors_of<const SPECULAR: bool>(
+        &self,
+        v: &[u8],
+        eye: [f32; 3],
+        depth: &FogDepth,
+    ) -> (u32, u32, f32) {
         let vertex_diffuse = self.layout.diffuse.map(|o| read_u32(v, o));
         let vertex_specular = self.layout.specular.map(|o| read_u32(v, o));
         let diffuse = vertex_diffuse.unwrap_or(crate::color::WHITE);
@@ -673,9 +692,13 @@ impl PointSetup {
                 let normal = self.layout.normal.map_or([0.0; 3], |o| {
                     [read_f32(v, o), read_f32(v, o + 4), read_f32(v, o + 8)]
                 });
-                l.light(eye, normal, diffuse, specular)
+                if SPECULAR {
+                    l.light(eye, normal, diffuse, specular)
+                } else {
+                    (l.light_diffuse(eye, normal, diffuse, specular), 0)
+                }
             }
-            None => (diffuse, specular),
+            None => (diffuse, if SPECULAR { specular } else { 0 }),
         };
         let fog = self
             .fog

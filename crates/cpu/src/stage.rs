@@ -4,7 +4,7 @@
 //! clip planes ([`VertexProcessing`]) that resolves everything per draw and keeps nothing the
 //! fills do not read. Vertices go N at a time, one a lane, on the level [`Level`] chose, then
 //! transformed ones four at a time on SSE2 where x86-64 has it, the rest one at a time; a lit
-//! or fogged point's colours are core's [`PointSetup::colors`] of the position the lanes
+//! or fogged point's colours are core's [`PointSetup::diffuse_and_fog`] of the position the lanes
 //! computed.
 //!
 //! [`VertexProcessing`] is tested against `process` on random and hostile vertices, on every
@@ -118,9 +118,9 @@ impl SquareStage {
 /// [`PointSetup::process`] for those): the point is its screen position (SPEC 1; or the
 /// pre-transformed one), dropped by SPEC 3.1 and 3.2, its size (SPEC 2), its diffuse colour
 /// (lit, SPEC 8) and fog factor (SPEC 9), and becomes its square (SPEC 4.1). One vertex at a
-/// time the rules are core's (`keeps_pretransformed`, `project`, `size`, `colors`); a batch of
+/// time the rules are core's (`keeps_pretransformed`, `project`, `size`, `diffuse_and_fog`); a batch of
 /// vertices, one a lane, goes through the same operations on [`Lanes`]
-/// ([`VertexProcessing::batches`]), and a lit or fogged one's colours through core's `colors`
+/// ([`VertexProcessing::batches`]), and a lit or fogged one's colours through core's `diffuse_and_fog`
 /// of the lanes' eye position and depths. What is resolved here per draw is where the
 /// vertex's fields are, whether every point has one size, and the viewport as float bounds.
 pub(crate) struct VertexProcessing {
@@ -135,7 +135,7 @@ pub(crate) struct VertexProcessing {
     /// The size of every point, when it depends on nothing per vertex.
     size: Option<f32>,
     diffuse: Option<usize>,
-    /// The points are lit or fogged (SPEC 8.1, 9.1): their colours are core's `colors`.
+    /// The points are lit or fogged (SPEC 8.1, 9.1): their colours are core's `diffuse_and_fog`.
     colors: bool,
     /// The viewport's pixel rectangle as floats, the lower and upper bounds of the edges
     /// `left, top, right, bottom`: `[x0, y0, x0, y0]` and `[x1, y1, x1, y1]`.
@@ -281,8 +281,7 @@ impl VertexProcessing {
                 Some((eye, c)) => (eye, c[3], c[2] / c[3]),
                 None => ([0.0; 3], pretransformed_w(position[3]), z),
             };
-            let (diffuse, _, fog) = points.colors(v, eye, &FogDepth { z, w, clip_z });
-            (diffuse, fog)
+            points.diffuse_and_fog(v, eye, &FogDepth { z, w, clip_z })
         } else {
             let diffuse = self
                 .diffuse
@@ -574,7 +573,7 @@ impl VertexProcessing {
                         let base = (index as usize + i) * self.stride;
                         let v = &vertices[base..base + self.stride];
                         let depth = FogDepth { z, w, clip_z };
-                        (diffuse[i], _, fog) = points.colors(v, [e0, e1, e2], &depth);
+                        (diffuse[i], fog) = points.diffuse_and_fog(v, [e0, e1, e2], &depth);
                     }
                     let square = Square {
                         rect,
