@@ -65,8 +65,8 @@ fn run(out: &Path, frames: u32, stop_at: Option<u32>) -> (Result<(), String>, Ve
 
 #[test]
 fn pipelined_frames_are_the_sequential_frames_byte_for_byte() {
-    let dir = std::env::temp_dir().join(format!("pointillist-pipeline-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
     let frames = 6;
     let expected = sequential_frames(frames);
     assert!(
@@ -107,5 +107,4 @@ fn pipelined_frames_are_the_sequential_frames_byte_for_byte() {
     assert_eq!(r.unwrap_err(), "stopped");
     assert_eq!(done, [0, 1, 2]);
     assert!(!stopped.exists());
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -5,8 +5,8 @@ use pointillist_bench::workloads::{Kind, Workload};
 
 #[test]
 fn each_workloads_scene_file_renders_its_frame_exactly() {
-    let dir = std::env::temp_dir().join(format!("pointillist-scene-file-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
     for kind in Kind::ALL {
         let w = Workload::new(kind, 2_000);
         let mut device = pointillist_cpu::device(w.device_desc()).unwrap();
@@ -36,5 +36,4 @@ fn each_workloads_scene_file_renders_its_frame_exactly() {
             (w.width, w.height)
         );
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }

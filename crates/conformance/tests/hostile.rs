@@ -16,17 +16,17 @@ const POINT: &str = "format = 1\n[target]\nwidth = 8\nheight = 4\n[[draw]]\n\
     fvf = \"XYZRHW | DIFFUSE\"\nvertices = [[4.0, 2.0, 0.5, 1.0, 0xFFFF0000]]\n";
 
 /// A fresh folder holding `scenes/point.toml` and `captures/device.txt`.
-fn setup(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "pointillist-conformance-hostile-{}-{name}",
-        std::process::id()
-    ));
-    let _ = fs::remove_dir_all(&dir);
+fn setup(name: &str) -> tempfile::TempDir {
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!("pointillist-conformance-hostile-{name}-"))
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     fs::create_dir_all(dir.join("scenes")).unwrap();
     fs::create_dir_all(dir.join("captures")).unwrap();
     fs::write(dir.join("scenes/point.toml"), POINT).unwrap();
     fs::write(dir.join("captures/device.txt"), DEVICE_TXT).unwrap();
-    dir
+    tmp
 }
 
 fn run(dir: &Path, expect: Option<PathBuf>) -> Result<Summary, String> {
@@ -95,7 +95,8 @@ fn forged_png(width: u32, height: u32) -> Vec<u8> {
 /// in an error naming the file; lines naming no case (nor a path out of the folder) are not read.
 #[test]
 fn captures_are_read_only_for_cases_and_only_at_their_target_size() {
-    let dir = setup("forged");
+    let tmp = setup("forged");
+    let dir = tmp.path().to_path_buf();
     let caps = dir.join("captures");
     fs::write(caps.join("point.png"), forged_png(65535, 65535)).unwrap();
     fs::write(
@@ -110,7 +111,6 @@ fn captures_are_read_only_for_cases_and_only_at_their_target_size() {
         m.contains("point.png: the device's image is 65535x65535, the target 8x4"),
         "{m}"
     );
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// `device.txt`, `results.txt` and the expectations are read only as regular files of at most
@@ -118,7 +118,8 @@ fn captures_are_read_only_for_cases_and_only_at_their_target_size() {
 /// with one error naming the file.
 #[test]
 fn text_files_are_regular_bounded_utf8_and_named() {
-    let dir = setup("text");
+    let tmp = setup("text");
+    let dir = tmp.path().to_path_buf();
     let caps = dir.join("captures");
     let fails = |expect: Option<PathBuf>, want: &str| {
         let e = run(&dir, expect).unwrap_err();
@@ -160,14 +161,14 @@ fn text_files_are_regular_bounded_utf8_and_named() {
     let summary = run(&dir, None).unwrap();
     assert_eq!(summary.counts, [0, 0, 0, 1]);
     assert!(message(&dir, "point").contains("the replayer wrote no result"));
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// A scene that reads a file inside the report folder: no stream and no image replaces it,
 /// and a refused stream leaves no other stream in place nor a temporary file behind.
 #[test]
 fn the_report_never_replaces_a_file_a_scene_reads() {
-    let dir = setup("inputs");
+    let tmp = setup("inputs");
+    let dir = tmp.path().to_path_buf();
     // One XYZRHW | DIFFUSE vertex, where the report would put the stream of `point`.
     let vertex: Vec<u8> = [4.0f32, 2.0, 0.5, 1.0]
         .iter()
@@ -236,7 +237,6 @@ fn the_report_never_replaces_a_file_a_scene_reads() {
         "{m}"
     );
     assert_eq!(fs::read(&image).unwrap(), vertex);
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// pointillist's side of a case is drawn under the work limit of `render` (`conform
@@ -247,7 +247,8 @@ fn the_report_never_replaces_a_file_a_scene_reads() {
 fn a_case_beyond_the_work_limit_is_an_error_for_that_case_not_hours() {
     use std::sync::mpsc;
     use std::time::Duration;
-    let dir = setup("work");
+    let tmp = setup("work");
+    let dir = tmp.path().to_path_buf();
     let caps = dir.join("captures");
     // A device whose points reach 8192 pixels, so that the scene's sizes are not clamped.
     fs::write(
@@ -306,5 +307,4 @@ fn a_case_beyond_the_work_limit_is_an_error_for_that_case_not_hours() {
     let (counts, m, _) = judged(1e5);
     assert_eq!(counts, [0, 0, 1, 1]);
     assert_eq!(m, says("1e5"));
-    let _ = fs::remove_dir_all(&dir);
 }

@@ -22,14 +22,12 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "pointillist-conformance-{}-{name}",
-        std::process::id()
-    ));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh folder, removed when dropped.
+fn temp(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("pointillist-conformance-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// Executes a stream on a fresh D3D9 device of pointillist's CPU backend: what a replayer does
@@ -233,7 +231,8 @@ fn write_png(path: &Path, image: &Image) {
 /// the expectations do not list is unexpected.
 #[test]
 fn captures_are_compared_at_the_device_caps_and_reported() {
-    let dir = temp("captures");
+    let tmp = temp("captures");
+    let dir = tmp.path().to_path_buf();
     let scenes = dir.join("scenes");
     fs::create_dir_all(&scenes).unwrap();
     // Each states what D3D9 draws; the device's image is checked against it as well.
@@ -416,7 +415,6 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
     let device_png = read_png(&report.join("img/changed.device.png")).unwrap();
     assert_eq!(device_png, changed);
     assert!(report.join("calls/changed.calls").is_file());
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// A device that fogs an over-bright specular sum after clamping it (the `specular_fog`
@@ -426,7 +424,8 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
 /// nothing.
 #[test]
 fn a_device_taking_another_behaviour_option_is_classified() {
-    let dir = temp("option");
+    let tmp = temp("option");
+    let dir = tmp.path().to_path_buf();
     let scenes = dir.join("scenes");
     fs::create_dir_all(&scenes).unwrap();
     let fogged = "format = 1\n[target]\nwidth = 16\nheight = 16\n[states]\nPOINTSIZE = 3.0\n\
@@ -519,7 +518,6 @@ fn a_device_taking_another_behaviour_option_is_classified() {
     .unwrap();
     assert_eq!(summary.counts, [2, 0, 0, 0]);
     assert_eq!(summary.behaviours["specular_fog"], Some("clamped"));
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// SPEC 2.6: case `2-size/default_max_is_64` on a device (MaxPointSize 255, as Wine's) whose
@@ -529,7 +527,8 @@ fn a_device_taking_another_behaviour_option_is_classified() {
 fn a_device_defaulting_pointsize_max_to_its_caps_is_classified() {
     const DEVICE: &str = "format=1\ndescription=Test Adapter 255\ndriver=test.dll\n\
         max_point_size=255\nfvfcaps_psize=1\nclip_plane_scaled_points=1\nmax_active_lights=8\n";
-    let dir = temp("pointsize-max");
+    let tmp = temp("pointsize-max");
+    let dir = tmp.path().to_path_buf();
     let scenes = dir.join("scenes");
     fs::create_dir_all(&scenes).unwrap();
     let case = repo().join("crates/conformance/cases/2-size/default_max_is_64.toml");
@@ -570,14 +569,14 @@ fn a_device_defaulting_pointsize_max_to_its_caps_is_classified() {
         summary.behaviours["point_size_max_default"],
         Some("max_point_size")
     );
-    let _ = fs::remove_dir_all(&dir);
 }
 
 /// A replayer that dies in a case: the case fails with that said, and the cases after it are
 /// replayed by a second start.
 #[test]
 fn a_replayer_that_stops_is_restarted_after_the_case() {
-    let dir = temp("crash");
+    let tmp = temp("crash");
+    let dir = tmp.path().to_path_buf();
     let scenes = dir.join("scenes");
     fs::create_dir_all(&scenes).unwrap();
     for name in ["a_boom", "b_fine", "c_fine"] {
@@ -641,12 +640,12 @@ fn a_replayer_that_stops_is_restarted_after_the_case() {
     })
     .unwrap_err();
     assert!(e.contains("wrote no device description"), "{e}");
-    let _ = fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn cases_are_named_by_their_place_and_never_twice() {
-    let dir = temp("names");
+    let tmp = temp("names");
+    let dir = tmp.path().to_path_buf();
     fs::create_dir_all(dir.join("a/sub")).unwrap();
     fs::write(dir.join("a/x.toml"), "").unwrap();
     fs::write(dir.join("a/sub/y z.toml"), "").unwrap();
@@ -665,5 +664,4 @@ fn cases_are_named_by_their_place_and_never_twice() {
             .contains("no scene files")
     );
     assert_eq!(Status::Match.to_string(), "match");
-    let _ = fs::remove_dir_all(&dir);
 }

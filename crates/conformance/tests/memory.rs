@@ -71,9 +71,8 @@ fn black_png(path: &Path, width: u32, height: u32) {
 
 #[test]
 fn streams_and_captures_are_never_held_whole() {
-    let dir = std::env::temp_dir().join(format!("pointillist-memory-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
 
     // A 1024x1024 texture (5.3 MiB with its mip chain) and 2^20 vertices of 20 bytes (20 MiB).
     black_png(&dir.join("texture.png"), 1024, 1024);
@@ -139,5 +138,4 @@ fn streams_and_captures_are_never_held_whole() {
     });
     assert_eq!(summary.counts, [4, 0, 0, 0], "{:?}", summary.unexpected);
     assert!(peak < 16 * MIB, "conform held {peak} bytes");
-    let _ = fs::remove_dir_all(&dir);
 }

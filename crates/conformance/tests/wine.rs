@@ -33,8 +33,8 @@ fn the_replayer_names_failing_calls_and_goes_on() {
         eprintln!("skipped: set POINTILLIST_WINE=1 to run the replayer under Wine");
         return;
     }
-    let dir = std::env::temp_dir().join(format!("pointillist-wine-{}", std::process::id()));
-    let _ = fs::remove_dir_all(&dir);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
     let calls = dir.join("calls");
     fs::create_dir_all(&calls).unwrap();
     let exe = dir.join("replayer.exe");
@@ -119,5 +119,4 @@ fn the_replayer_names_failing_calls_and_goes_on() {
     let e = failed("c_truncated");
     assert!(e.contains("ends without an end record"), "{e}");
     assert!(Path::new(&dir.join("device/a_ok.png")).is_file());
-    let _ = fs::remove_dir_all(&dir);
 }

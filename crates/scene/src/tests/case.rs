@@ -215,8 +215,8 @@ fn check_names_every_failing_expectation() {
 
 #[test]
 fn list_cases_walks_subfolders_in_order() {
-    let dir = std::env::temp_dir().join(format!("pointillist-cases-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
     for f in ["b/2.toml", "b/1.toml", "a.toml", "a/x.png", "c/d/e.toml"] {
         let p = dir.join(f);
         std::fs::create_dir_all(p.parent().unwrap()).unwrap();
@@ -230,5 +230,4 @@ fn list_cases_walks_subfolders_in_order() {
     assert_eq!(got, ["a.toml", "b/1.toml", "b/2.toml", "c/d/e.toml"]);
     let e = list_cases(&dir.join("none")).unwrap_err().to_string();
     assert!(e.contains("cannot read the folder"), "{e}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -224,8 +224,8 @@ fn emitters_are_counted_and_each_charged_whole_blocks() {
 #[cfg(unix)]
 #[test]
 fn a_named_pipe_as_the_scene_file_is_refused_without_waiting() {
-    let dir = std::env::temp_dir().join(format!("pointillist-scene-fifo-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
     let pipe = dir.join("pipe.toml");
     let made = std::process::Command::new("mkfifo")
         .arg(&pipe)
@@ -242,7 +242,6 @@ fn a_named_pipe_as_the_scene_file_is_refused_without_waiting() {
         // Unblock the waiting open so the thread ends, then fail.
         let _ = std::fs::OpenOptions::new().write(true).open(&pipe);
     }
-    let _ = std::fs::remove_dir_all(&dir);
     let e = result.expect("load returned within 10 s").unwrap_err();
     assert!(
         e.ends_with("pipe.toml: cannot read scene file: it is not a regular file (a named pipe)"),
@@ -257,8 +256,8 @@ fn a_scene_file_is_a_regular_file_of_bounded_size() {
         e,
         "/dev/zero: cannot read scene file: it is not a regular file (a character device)"
     );
-    let dir = std::env::temp_dir().join(format!("pointillist-scene-size-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
     let big = dir.join("big.toml");
     let mut text = String::from(HEAD);
     while text.len() as u64 <= MAX_SCENE_BYTES {
@@ -275,5 +274,4 @@ fn a_scene_file_is_a_regular_file_of_bounded_size() {
         )),
         "{e}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1,7 +1,7 @@
 //! Hostile scene files: limits and malformed values, each refused with one line naming the file,
 //! line, column and key (SCENE.md; docs/spec/PARTICLES.md, limits).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::parse;
 use crate::tests::{HEAD, err};
@@ -17,12 +17,12 @@ fn err_at(src: &str, file: &Path) -> String {
     }
 }
 
-/// A fresh folder under the system's temporary folder.
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pointillist-limits-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh folder, removed when dropped.
+fn scratch(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("pointillist-limits-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 #[test]
@@ -103,7 +103,8 @@ fn unknown_fvf_bits_and_indices() {
 
 #[test]
 fn a_vertex_file_above_the_vertex_limit_is_refused_before_it_is_read() {
-    let dir = scratch("vertices");
+    let tmp = scratch("vertices");
+    let dir = tmp.path().to_path_buf();
     // A sparse file: its length says 2^24 + 1 XYZ vertices without taking the disk space.
     let big = std::fs::File::create(dir.join("big.bin")).unwrap();
     big.set_len((pointillist_core::MAX_DRAW_VERTICES as u64 + 1) * 12)
@@ -122,7 +123,6 @@ fn a_vertex_file_above_the_vertex_limit_is_refused_before_it_is_read() {
             dir.join("big.bin").display()
         )
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -164,7 +164,8 @@ fn a_scene_over_the_memory_budget_is_refused_at_the_key_that_crosses_it() {
 /// budget saw it). Here a PNG that is only a header: refused by the budget, never decoded.
 #[test]
 fn a_texture_is_charged_from_its_header_before_it_is_decoded() {
-    let dir = scratch("header");
+    let tmp = scratch("header");
+    let dir = tmp.path().to_path_buf();
     // Signature and IHDR: 16384x8192, 16-bit RGBA; no image data.
     let mut png = b"\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR".to_vec();
     png.extend_from_slice(&16384u32.to_be_bytes());
@@ -201,7 +202,6 @@ fn a_texture_is_charged_from_its_header_before_it_is_decoded() {
             scratch: 16384 * 8192 * 4,
         })
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A PNG that is only a signature and an IHDR of `width` x `height`, 8-bit RGBA.
@@ -219,7 +219,8 @@ fn png_header(width: u32, height: u32) -> Vec<u8> {
 /// only after decoding the first two. Here PNGs that are only headers: a decode would fail.
 #[test]
 fn textures_are_charged_together_before_the_first_is_decoded() {
-    let dir = scratch("together");
+    let tmp = scratch("together");
+    let dir = tmp.path().to_path_buf();
     for name in ["a.png", "b.png", "c.png"] {
         std::fs::write(dir.join(name), png_header(16384, 16384)).unwrap();
     }
@@ -262,12 +263,12 @@ fn textures_are_charged_together_before_the_first_is_decoded() {
     }
     let e = err_at(&src, &file);
     assert!(e.contains("texture[0].file: cannot load texture"), "{e}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn a_texture_that_does_not_decode_names_the_file_and_the_reason() {
-    let dir = scratch("texture");
+    let tmp = scratch("texture");
+    let dir = tmp.path().to_path_buf();
     std::fs::write(dir.join("cut.png"), &b"\x89PNG\r\n\x1a\n\0\0"[..]).unwrap();
     std::fs::write(dir.join("cut.dds"), b"DDS \x7c\0\0\0").unwrap();
     let scene = dir.join("s.toml");
@@ -296,5 +297,4 @@ fn a_texture_that_does_not_decode_names_the_file_and_the_reason() {
             dir.join("cut.dds").display()
         )
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }

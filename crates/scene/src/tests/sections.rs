@@ -512,8 +512,8 @@ fn draws_rows_files_and_per_draw_changes_in_order() {
 
 #[test]
 fn load_reads_files_and_names_unreadable_ones() {
-    let dir = std::env::temp_dir().join(format!("pointillist-scene-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().to_path_buf();
     let path = dir.join("s.toml");
     std::fs::copy("tests/data/flake.png", dir.join("f.png")).unwrap();
     std::fs::write(

@@ -2,7 +2,7 @@
 //! pixels as the same vertices inline, a file that changes size between the parse and the draw,
 //! an empty file, and files that are not regular files.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use pointillist_core::Device;
 use pointillist_core::device::RenderTarget;
@@ -10,15 +10,12 @@ use pointillist_cpu::CpuBackend;
 
 use crate::{Command, Scene, VertexBytes, parse};
 
-/// A fresh folder under the system's temporary folder.
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "pointillist-vertex-file-{tag}-{}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh folder, removed when dropped.
+fn scratch(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("pointillist-vertex-file-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// A 32x32 target, additive blending, 3-pixel points.
@@ -67,7 +64,8 @@ fn draw_vertices(s: &Scene) -> &VertexBytes {
 
 #[test]
 fn a_mapped_file_renders_the_pixels_of_the_same_vertices_inline() {
-    let dir = scratch("same");
+    let tmp = scratch("same");
+    let dir = tmp.path().to_path_buf();
     let pts = points();
     std::fs::write(dir.join("p.bin"), encode(&pts)).unwrap();
     let from_file = parse(
@@ -100,14 +98,14 @@ fn a_mapped_file_renders_the_pixels_of_the_same_vertices_inline() {
     assert_eq!(a.depth, b.depth);
     assert!(a.color.iter().any(|&p| p != 0xFF00_0000), "points drawn");
     drop((from_file, again));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A vertex file whose size changes between the parse and the draw is an error naming the scene
 /// line and the file, not a SIGBUS (shorter) or a silent draw of the old length (longer).
 #[test]
 fn a_file_that_changes_size_after_the_parse_is_an_error_at_the_draw() {
-    let dir = scratch("changed");
+    let tmp = scratch("changed");
+    let dir = tmp.path().to_path_buf();
     let bin = dir.join("p.bin");
     let scene = dir.join("s.toml");
     let bytes = encode(&points());
@@ -143,13 +141,13 @@ fn a_file_that_changes_size_after_the_parse_is_an_error_at_the_draw() {
     std::fs::remove_file(&bin).unwrap();
     std::fs::write(&bin, &bytes[..20]).unwrap();
     assert_eq!(render(&s).unwrap().color, before.color);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// An empty vertex file is a draw of no vertices, as it was when the file was read into memory.
 #[test]
 fn an_empty_file_draws_nothing() {
-    let dir = scratch("empty");
+    let tmp = scratch("empty");
+    let dir = tmp.path().to_path_buf();
     std::fs::write(dir.join("none.bin"), b"").unwrap();
     let s = parse(
         &format!("{HEAD}[[draw]]\nfvf = \"XYZRHW | DIFFUSE\"\nfile = \"none.bin\"\n"),
@@ -162,7 +160,6 @@ fn an_empty_file_draws_nothing() {
     assert_eq!(*v, VertexBytes::default());
     let rt = render(&s).unwrap();
     assert!(rt.color.iter().all(|&p| p == 0xFF00_0000));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A file that says it is empty but is not (like the files of /proc) is the error it was before
@@ -185,7 +182,8 @@ fn a_file_whose_length_lies_is_refused() {
 #[cfg(unix)]
 #[test]
 fn a_folder_or_a_named_pipe_is_not_a_vertex_file() {
-    let dir = scratch("kinds");
+    let tmp = scratch("kinds");
+    let dir = tmp.path().to_path_buf();
     std::fs::create_dir(dir.join("folder.bin")).unwrap();
     let made = std::process::Command::new("mkfifo")
         .arg(dir.join("pipe.bin"))
@@ -216,5 +214,4 @@ fn a_folder_or_a_named_pipe_is_not_a_vertex_file() {
             )
         );
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
