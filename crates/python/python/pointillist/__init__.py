@@ -27,14 +27,29 @@ Errors raise ``ValueError``/``TypeError`` (bad arguments: dtypes, shapes, NaNs, 
 the one-line message the command line prints.
 """
 
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING, Any, Optional, Tuple, Union
+
+import numpy
+import numpy.typing as npt
+
 from . import _native
 from ._image import Image
-from ._native import Device, Error, SceneError, lanes
+from ._native import Device, Error, Plot, SceneError, lanes
+
+if TYPE_CHECKING:
+    from ._native import Backend, Behaviour, Blend
+
+#: A column argument: anything numpy turns into a 1-D array of numbers.
+Column = npt.ArrayLike
 
 __all__ = [
     "Device",
     "Error",
     "Image",
+    "Plot",
     "SceneError",
     "animate",
     "behaviour_profiles",
@@ -46,22 +61,22 @@ __all__ = [
 
 
 def points(
-    x,
-    y,
+    x: Column,
+    y: Column,
     *,
-    size=1.0,
-    color=0xFFFFFFFF,
-    z=None,
-    width,
-    height,
-    blend="add",
-    x_range=None,
-    y_range=None,
-    clear=0xFF000000,
-    texture=None,
-    backend="cpu",
-    behaviour=None,
-):
+    size: Union[float, Column] = 1.0,
+    color: Union[int, Column] = 0xFFFFFFFF,
+    z: Optional[Column] = None,
+    width: int,
+    height: int,
+    blend: Blend = "add",
+    x_range: Optional[Tuple[float, float]] = None,
+    y_range: Optional[Tuple[float, float]] = None,
+    clear: int = 0xFF000000,
+    texture: Optional[npt.NDArray[numpy.uint8]] = None,
+    backend: Backend = "cpu",
+    behaviour: Behaviour = None,
+) -> Image:
     """Draw one point sprite per row of ``x, y`` and return the image.
 
     Each point is a pre-transformed Direct3D 9 vertex (D3DFVF_XYZRHW) drawn as a square of
@@ -120,30 +135,37 @@ def points(
     pointillist.Error
         When the device refuses the target (its size).
 
+    The arguments that describe the plot rather than the points (``width`` to ``behaviour``)
+    are checked first, together, as one :class:`Plot`.
+
     The GIL is released while the points are drawn.
     """
-    return _native.points(
-        x,
-        y,
-        size=size,
-        color=color,
-        z=z,
-        width=width,
-        height=height,
+    plot = Plot(
+        width,
+        height,
         blend=blend,
         x_range=x_range,
         y_range=y_range,
         clear=clear,
         texture=texture,
-        backend=backend,
         behaviour=behaviour,
+        backend=backend,
     )
+    return _native.points(plot, x, y, size=size, color=color, z=z)
 
 
 render_scene = _native.render_scene
 
 
-def animate(path, out, *, frames=None, backend="cpu", behaviour=None, max_pixels=1e11):
+def animate(
+    path: Union[str, os.PathLike[str]],
+    out: Union[str, os.PathLike[str]],
+    *,
+    frames: Optional[int] = None,
+    backend: Backend = "cpu",
+    behaviour: Behaviour = None,
+    max_pixels: float = 1e11,
+) -> None:
     """Render every frame of a scene's ``[animation]`` to ``out``, as ``pointillist animate``
     does: an animated GIF (``.gif``), an APNG of the exact RGBA bytes (``.png``/``.apng``), a
     numbered PNG sequence (a name with ``%d``, e.g. ``frames/f_%04d.png``) or H.264 through
@@ -166,7 +188,7 @@ def animate(path, out, *, frames=None, backend="cpu", behaviour=None, max_pixels
     )
 
 
-def behaviours():
+def behaviours() -> list[dict[str, Any]]:
     """The device behaviour switches: rules on which real D3D9 devices differ, or no record
     decides (docs/spec/SPEC.md, "Device behaviours"), as ``pointillist behaviours --json``
     lists them. A list of dicts, one a switch, with ``name``, ``options`` (their names),
@@ -178,7 +200,7 @@ def behaviours():
     return _native.behaviours_table()
 
 
-def behaviour_profiles():
+def behaviour_profiles() -> list[dict[str, Any]]:
     """The behaviour profiles: one name for the options a source shows for a whole device
     (docs/spec/SPEC.md, "Device behaviours"), as ``pointillist behaviours --profiles --json``
     lists them. A list of dicts with ``name``, ``summary``, ``settings`` (a dict of switch
