@@ -124,7 +124,9 @@ def points(
     -------
     Image
         An ``(height, width, 4)`` uint8 RGBA array (a ``numpy.ndarray`` subclass that shows
-        itself as a picture in Jupyter), rows top to bottom.
+        itself as a picture in Jupyter), rows top to bottom, that knows its ``x_range``,
+        ``y_range`` and ``extent`` (``img.imshow(ax)`` draws it on matplotlib Axes at its data
+        coordinates; ``img.to_pil()`` makes a Pillow image).
 
     Raises
     ------
@@ -151,7 +153,14 @@ def points(
         behaviour=behaviour,
         backend=backend,
     )
-    return _native.points(plot, x, y, size=size, color=color, z=z)
+    image = _native.points(plot, x, y, size=size, color=color, z=z)
+    return image._located(plot, _name(x), _name(y))
+
+
+def _name(column: Any) -> Optional[str]:
+    """The name of a column that has one (a pandas Series), for the image's axis labels."""
+    name = getattr(column, "name", None)
+    return name if isinstance(name, str) else None
 
 
 render_scene = _native.render_scene

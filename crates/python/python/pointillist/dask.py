@@ -186,7 +186,8 @@ def points(
             counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
             total = _compute(_reduce(task, counts, _add_counts, split_every), client)
         total = numpy.asarray(total)
-        return _native._from_counts(plot, total, layout).view(Image)
+        image = _native._from_counts(plot, total, layout).view(Image)
+        return image._located(plot, x, y)
     if plot.commutes and z is None:
         args = (columns, constants, plot)
         if held is not None:
@@ -195,7 +196,7 @@ def points(
                 functools.partial(_combine, plot=plot),
                 functools.partial(_native._combine, plot=plot), split_every,
             )
-            return _finish(image, plot).view(Image)
+            return _finish(image, plot).view(Image)._located(plot, x, y)
         parts = df.to_delayed()
         images = [task(_partial)(parts[p], p, *args) for p in range(len(parts))]
         combine = functools.partial(_combine, plot=plot)
@@ -216,7 +217,7 @@ def points(
             for t, rect in enumerate(rects)
         ]
         result = task(_assemble)(tiles, rects, width, height)
-    return _compute(result, client).view(Image)
+    return _compute(result, client).view(Image)._located(plot, x, y)
 
 
 def _client(client: Any) -> Any:
