@@ -4,6 +4,8 @@ workers unchanged; and the compiled module's stubs."""
 import ast
 import pathlib
 import pickle
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -160,3 +162,17 @@ def test_stubs_cover_the_compiled_module():
     points = next(n for n in init.body if isinstance(n, ast.FunctionDef) and n.name == "points")
     assert points.returns is not None
     assert all(a.annotation is not None for a in points.args.args + points.args.kwonlyargs)
+
+
+def test_stubs_and_annotations_type_check(tmp_path):
+    # mypy's stubtest compares _native.pyi with the installed compiled module (every name,
+    # signature and default), and mypy checks the package's inline annotations against it.
+    def run(*args):
+        done = subprocess.run(
+            [sys.executable, "-m", *args], cwd=tmp_path, capture_output=True, text=True
+        )
+        assert done.returncode == 0, done.stdout + done.stderr
+
+    run("mypy.stubtest", "--mypy-config-file", "/dev/null", "pointillist._native")
+    run("mypy", "--cache-dir", str(tmp_path / "cache"), "--ignore-missing-imports",
+        "-p", "pointillist")

@@ -40,7 +40,9 @@ from ._image import Image
 from ._native import Device, Error, Plot, SceneError, lanes
 
 if TYPE_CHECKING:
-    from ._native import Backend, Behaviour, Blend
+    from ._native import _Backend as Backend
+    from ._native import _Behaviour as Behaviour
+    from ._native import _Blend as Blend
 
 #: A column argument: anything numpy turns into a 1-D array of numbers.
 Column = npt.ArrayLike

@@ -14,16 +14,43 @@ from typing_extensions import TypeAlias, final
 
 from ._image import Image
 
-Blend: TypeAlias = Literal["add", "alpha", "max", "replace"]
-Backend: TypeAlias = Literal["cpu", "gpu"]
-Behaviour: TypeAlias = Optional[dict[str, str]]
-Range: TypeAlias = Optional[Tuple[float, float]]
-Column: TypeAlias = npt.ArrayLike
-StateValue: TypeAlias = Union[float, int, bool, str]
-U8Array: TypeAlias = npt.NDArray[numpy.uint8]
-Rect: TypeAlias = Tuple[int, int, int, int]
-Columns: TypeAlias = Tuple[
-    Column, Column, Optional[Column], Union[float, Column], Union[int, Column]
+__all__ = [
+    "Error",
+    "SceneError",
+    "Device",
+    "Plot",
+    "points",
+    "render_scene",
+    "animate",
+    "lanes",
+    "behaviours_table",
+    "behaviour_profiles",
+    "_check",
+    "_partial",
+    "_combine",
+    "_counts",
+    "_add_counts",
+    "_from_counts",
+    "_finish",
+    "_tiles",
+    "_bin",
+    "_render_tile",
+    "_encode_png",
+    "_save_png",
+]
+
+# Type aliases of the stubs only (private: the module does not have them at run time).
+
+_Blend: TypeAlias = Literal["add", "alpha", "max", "replace"]
+_Backend: TypeAlias = Literal["cpu", "gpu"]
+_Behaviour: TypeAlias = Optional[dict[str, str]]
+_Range: TypeAlias = Optional[Tuple[float, float]]
+_Column: TypeAlias = npt.ArrayLike
+_StateValue: TypeAlias = Union[float, int, bool, str]
+_U8Array: TypeAlias = npt.NDArray[numpy.uint8]
+_Rect: TypeAlias = Tuple[int, int, int, int]
+_Columns: TypeAlias = Tuple[
+    _Column, _Column, Optional[_Column], Union[float, _Column], Union[int, _Column]
 ]
 """The columns of a worker's step: ``(x, y, z, size, color)``; ``size`` and ``color`` may
 be constants, ``z`` None."""
@@ -45,13 +72,13 @@ class Plot:
         cls,
         width: int,
         height: int,
-        blend: Blend = "add",
-        x_range: Range = None,
-        y_range: Range = None,
+        blend: _Blend = "add",
+        x_range: _Range = None,
+        y_range: _Range = None,
         clear: int = 0xFF000000,
         texture: Optional[npt.ArrayLike] = None,
-        behaviour: Behaviour = None,
-        backend: Backend = "cpu",
+        behaviour: _Behaviour = None,
+        backend: _Backend = "cpu",
     ) -> "Plot": ...
     @property
     def width(self) -> int:
@@ -60,7 +87,7 @@ class Plot:
     def height(self) -> int:
         """The target's height in pixels."""
     @property
-    def blend(self) -> Blend:
+    def blend(self) -> _Blend:
         """The blend preset's name."""
     @property
     def x_range(self) -> Optional[Tuple[float, float]]:
@@ -72,13 +99,13 @@ class Plot:
     def clear(self) -> int:
         """The D3DCOLOR the target starts as."""
     @property
-    def texture(self) -> Optional[U8Array]:
+    def texture(self) -> Optional[_U8Array]:
         """A read-only (h, w, 4) uint8 copy of the texture, or None."""
     @property
     def behaviour(self) -> dict[str, str]:
         """Every behaviour switch's option, by name."""
     @property
-    def backend(self) -> Backend:
+    def backend(self) -> _Backend:
         """The backend's name."""
     @property
     def commutes(self) -> bool:
@@ -87,12 +114,12 @@ class Plot:
 
 def points(
     plot: Plot,
-    x: Column,
-    y: Column,
+    x: _Column,
+    y: _Column,
     *,
-    size: Union[float, Column],
-    color: Union[int, Column],
-    z: Optional[Column] = None,
+    size: Union[float, _Column],
+    color: Union[int, _Column],
+    z: Optional[_Column] = None,
 ) -> Image:
     """One point sprite per row of ``x, y`` drawn as ``plot`` says (``pointillist.points``)."""
 
@@ -100,8 +127,8 @@ def render_scene(
     path: Union[str, os.PathLike[str]],
     frame: Optional[int] = None,
     *,
-    backend: Backend = "cpu",
-    behaviour: Behaviour = None,
+    backend: _Backend = "cpu",
+    behaviour: _Behaviour = None,
     max_pixels: float = 1e11,
 ) -> Image:
     """The target of a scene file, as ``pointillist render`` writes it; a draw beyond
@@ -112,8 +139,8 @@ def animate(
     out: str,
     *,
     frames: Optional[int] = None,
-    backend: Backend = "cpu",
-    behaviour: Behaviour = None,
+    backend: _Backend = "cpu",
+    behaviour: _Behaviour = None,
     max_pixels: float = 1e11,
 ) -> None:
     """Every frame of a scene's animation to a file, as ``pointillist animate`` writes it."""
@@ -135,12 +162,12 @@ class Device:
         cls,
         width: int,
         height: int,
-        backend: Backend = "cpu",
+        backend: _Backend = "cpu",
         *,
         api: Literal["d3d9", "d3d8"] = "d3d9",
         caps: str = "reference",
         clear: int = 0xFF000000,
-        behaviour: Behaviour = None,
+        behaviour: _Behaviour = None,
     ) -> "Device": ...
     @property
     def size(self) -> Tuple[int, int]:
@@ -148,15 +175,15 @@ class Device:
     @property
     def behaviour(self) -> dict[str, str]:
         """Every behaviour switch's option, by name."""
-    def set_render_state(self, name: str, value: StateValue) -> None:
+    def set_render_state(self, name: str, value: _StateValue) -> None:
         """SetRenderState."""
     def render_state(self, name: str) -> int:
         """GetRenderState: the raw 32 bits."""
-    def set_texture_stage_state(self, stage: int, name: str, value: StateValue) -> None:
+    def set_texture_stage_state(self, stage: int, name: str, value: _StateValue) -> None:
         """SetTextureStageState."""
-    def set_sampler_state(self, sampler: int, name: str, value: StateValue) -> None:
+    def set_sampler_state(self, sampler: int, name: str, value: _StateValue) -> None:
         """SetSamplerState."""
-    def set_texture(self, stage: int, array: Optional[U8Array]) -> None:
+    def set_texture(self, stage: int, array: Optional[_U8Array]) -> None:
         """SetTexture from an (h, w, 4) uint8 RGBA array; None unbinds."""
     def set_transform(
         self, name: str, matrix: Union[npt.ArrayLike, Sequence[Sequence[float]]]
@@ -181,15 +208,15 @@ class Device:
 
 # The steps of pointillist.dask.
 
-def _check(plot: Plot, columns: Columns) -> None:
+def _check(plot: Plot, columns: _Columns) -> None:
     """Checks the columns against the plot without drawing."""
 
-def _partial(plot: Plot, columns: Columns, threads: Optional[int] = None) -> Image:
+def _partial(plot: Plot, columns: _Columns, threads: Optional[int] = None) -> Image:
     """The points drawn onto a zero target (a blend that commutes, no depth)."""
 
 def _counts(
     plot: Plot,
-    columns: Columns,
+    columns: _Columns,
     out: Optional[npt.NDArray[numpy.uint8]] = None,
     threads: Optional[int] = None,
 ) -> Optional[npt.NDArray[numpy.uint8]]:
@@ -199,35 +226,35 @@ def _counts(
 def _add_counts(dst: npt.NDArray[numpy.uint8], src: npt.NDArray[numpy.uint8]) -> None:
     """``dst += src`` in place, saturating at 255."""
 
-def _from_counts(plot: Plot, counts: npt.NDArray[numpy.uint8], columns: Columns) -> Image:
+def _from_counts(plot: Plot, counts: npt.NDArray[numpy.uint8], columns: _Columns) -> Image:
     """The image of a counted draw from its counts."""
 
-def _combine(dst: U8Array, src: U8Array, plot: Plot) -> None:
+def _combine(dst: _U8Array, src: _U8Array, plot: Plot) -> None:
     """Combines partial image ``src`` into ``dst`` with the blend's exact operator."""
 
-def _finish(rgba: U8Array, plot: Plot) -> None:
+def _finish(rgba: _U8Array, plot: Plot) -> None:
     """Combines the clear colour into the combined partial images, in place."""
 
-def _tiles(plot: Plot, tile_width: int, tile_height: int) -> list[Rect]:
+def _tiles(plot: Plot, tile_width: int, tile_height: int) -> list[_Rect]:
     """The tiles of the target, ``(x0, y0, x1, y1)`` row by row."""
 
 def _bin(
-    plot: Plot, columns: Columns, first_index: int, tile_width: int, tile_height: int
+    plot: Plot, columns: _Columns, first_index: int, tile_width: int, tile_height: int
 ) -> list[Tuple[npt.NDArray[numpy.uint32], npt.NDArray[numpy.uint64]]]:
     """Each tile's vertices and indices of the points whose squares overlap it."""
 
 def _render_tile(
     plot: Plot,
     vertices: npt.NDArray[numpy.uint32],
-    rect: Rect,
+    rect: _Rect,
     *,
     size: Optional[float],
     depth: bool,
 ) -> Image:
     """One tile's (h, w, 4) RGBA from its vertices, in index order."""
 
-def _encode_png(rgba: U8Array) -> bytes:
+def _encode_png(rgba: _U8Array) -> bytes:
     """PNG bytes of an (h, w, 4) uint8 RGBA array."""
 
-def _save_png(path: str, rgba: U8Array) -> None:
+def _save_png(path: str, rgba: _U8Array) -> None:
     """Writes an (h, w, 4) uint8 RGBA array as a PNG file, atomically."""

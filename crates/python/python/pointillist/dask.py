@@ -59,7 +59,8 @@ from ._image import Image
 from ._native import Plot
 
 if TYPE_CHECKING:
-    from ._native import Behaviour, Blend
+    from ._native import _Behaviour as Behaviour
+    from ._native import _Blend as Blend
 
 __all__ = ["points"]
 
@@ -128,7 +129,8 @@ def points(
         width, height, blend=blend, x_range=x_range, y_range=y_range, clear=clear,
         texture=texture, behaviour=behaviour,
     )
-    tw, th = (tile_size, tile_size) if numpy.ndim(tile_size) == 0 else tile_size
+    sides: Any = (tile_size, tile_size) if numpy.ndim(tile_size) == 0 else tile_size
+    tw, th = sides
     rects = _native._tiles(plot, int(tw), int(th))
     if int(split_every) < 2:
         raise ValueError(f"split_every {split_every} must be at least 2")
@@ -165,7 +167,7 @@ def points(
     # earlier one that the scheduler has not yet released.
     task = lambda fn, **kw: dask.delayed(fn, pure=False, **kw)  # noqa: E731
     # Empty columns with the draw's layout (a size column or not, a colour or not).
-    layout = (empty, empty, None, empty if "size" in columns else size, constants["color"])
+    layout: Any = (empty, empty, None, empty if "size" in columns else size, constants["color"])
     counted = (
         z is None
         and constants["color"] is not None
@@ -186,17 +188,17 @@ def points(
             counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
             total = _compute(_reduce(task, counts, _add_counts, split_every), client)
         total = numpy.asarray(total)
-        image = _native._from_counts(plot, total, layout).view(Image)
-        return image._located(plot, x, y)
+        counted_image = _native._from_counts(plot, total, layout).view(Image)
+        return counted_image._located(plot, x, y)
     if plot.commutes and z is None:
         args = (columns, constants, plot)
         if held is not None:
-            image = _gather_sum(
+            combined = _gather_sum(
                 client, _partial_held, held.items(), args,
                 functools.partial(_combine, plot=plot),
                 functools.partial(_native._combine, plot=plot), split_every,
             )
-            return _finish(image, plot).view(Image)._located(plot, x, y)
+            return _finish(combined, plot).view(Image)._located(plot, x, y)
         parts = df.to_delayed()
         images = [task(_partial)(parts[p], p, *args) for p in range(len(parts))]
         combine = functools.partial(_combine, plot=plot)
@@ -256,7 +258,7 @@ def _held(df: Any, client: Any) -> Optional[dict]:
         if any(f.status != "finished" for f in ordered):
             return None
         who = client.who_has(ordered)
-        held = {}
+        held: dict = {}
         for p, f in enumerate(ordered):
             workers = who.get(f.key)
             if not workers:
@@ -293,7 +295,7 @@ def _gather_sum(
             client.submit(combine, tasks[i : i + split_every], pure=False)
             for i in range(0, len(tasks), split_every)
         ]
-    out = None
+    out: Any = None
     # Added as they arrive: the first arrays travel while the last task runs.
     for _, array in as_completed(tasks, with_results=True):
         if out is None:
@@ -431,7 +433,8 @@ def _tile(pieces: list, rect: Sequence[int], layout: dict, plot: Plot) -> numpy.
     index = numpy.concatenate([i for _, i in pieces])
     if index.size > 1 and not numpy.all(index[1:] > index[:-1]):
         vertices = vertices[numpy.argsort(index, kind="stable")]
-    image = _native._render_tile(plot, vertices, tuple(rect), **layout)
+    x0, y0, x1, y1 = rect
+    image = _native._render_tile(plot, vertices, (x0, y0, x1, y1), **layout)
     return numpy.asarray(image)
 
 
