@@ -30,6 +30,7 @@ the one-line message the command line prints.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, Optional, Tuple, Union
 
 import numpy
@@ -63,12 +64,13 @@ __all__ = [
 
 
 def points(
-    x: Column,
-    y: Column,
+    data: Any = None,
+    x: Union[str, Column, None] = None,
+    y: Union[str, Column, None] = None,
     *,
-    size: Union[float, Column] = 1.0,
-    color: Union[int, Column] = 0xFFFFFFFF,
-    z: Optional[Column] = None,
+    size: Union[float, str, Column] = 1.0,
+    color: Union[int, str, Column] = 0xFFFFFFFF,
+    z: Union[str, Column, None] = None,
     width: int,
     height: int,
     blend: Blend = "add",
@@ -87,21 +89,33 @@ def points(
     ``width`` x ``height`` target cleared to ``clear``. The result is the same, bit for bit,
     as the same vertices and render states drawn from a scene file by ``pointillist render``.
 
+    It is called with arrays, ``points(x, y, ...)``, or with a table and the names of its
+    columns, ``points(data, x="col", y="col", size=..., color=..., z=...)``: ``data`` a pandas
+    DataFrame or a dict of 1-D arrays, and any of ``size``, ``color`` and ``z`` a column name
+    (a string) or, as with arrays, a constant or an array. Columns of numpy dtypes are read as
+    the arrays they hold, in place; a null in a column of a nullable (extension) dtype raises
+    ``ValueError`` naming the column and the first null row (positions, sizes, colours and
+    depths alike: a NaN size or depth is refused the same way). Arrow objects
+    (``__arrow_c_stream__``: pyarrow, polars) are not read yet.
+
     Parameters
     ----------
-    x, y : 1-D arrays of real numbers
+    data : pandas.DataFrame, dict of arrays, or None
+        The table whose columns ``x``, ``y`` (and ``size``, ``color``, ``z`` where they are
+        strings) name.
+    x, y : 1-D arrays of real numbers, or column names
         Positions. With ``x_range``/``y_range``, data coordinates mapped by
         ``X = (x - x_lo) * (width / (x_hi - x_lo)) - 0.5`` and
         ``Y = (y_hi - y) * (height / (y_hi - y_lo)) - 0.5`` (y upwards; computed in float64,
         rounded once to float32); without them, pixel coordinates (pixel centres at integers,
         y downwards). C-contiguous float32 and float64 arrays are read in place, without a
         copy; other dtypes are converted once.
-    size : float or 1-D array, default 1.0
+    size : float, 1-D array or column name, default 1.0
         Side of each square in pixels, exact (not rounded; a square covering no pixel centre
         draws nothing), clamped to 0..8192.
-    color : int, 1-D uint32 array or (n, 4) uint8 array, default 0xFFFFFFFF
+    color : int, 1-D uint32 array, (n, 4) uint8 array or column name, default 0xFFFFFFFF
         D3DCOLORs 0xAARRGGBB, or RGBA bytes per point; read in place.
-    z : 1-D array or None
+    z : 1-D array, column name or None
         Depths in 0..1 for the depth test (LESSEQUAL, depth written): the nearest point wins
         whatever the order. Points outside 0..1 are clipped, as Direct3D clips them.
     width, height : int
@@ -144,6 +158,7 @@ def points(
 
     The GIL is released while the points are drawn.
     """
+    x, y, size, color, z, x_name, y_name = _columns(data, x, y, size, color, z)
     plot = Plot(
         width,
         height,
@@ -156,7 +171,71 @@ def points(
         backend=backend,
     )
     image = _native.points(plot, x, y, size=size, color=color, z=z)
-    return image._located(plot, _name(x), _name(y))
+    return image._located(plot, x_name, y_name)
+
+
+def _columns(data: Any, x: Any, y: Any, size: Any, color: Any, z: Any) -> tuple:
+    """The arrays (or constants) ``x, y, size, color, z`` of a call with arrays or with a
+    table and column names, and the names of ``x`` and ``y`` (the columns', a Series')."""
+    names = {"x": x, "y": y, "size": size, "color": color, "z": z}
+    if not any(isinstance(v, str) for v in names.values()):
+        arrays = [a for a in (data, x, y) if a is not None]
+        if len(arrays) != 2:
+            raise TypeError(
+                "points takes the arrays x and y, or data and the names of its x and y columns"
+            )
+        x, y = arrays
+        return x, y, size, color, z, _name(x), _name(y)
+    if data is None:
+        raise TypeError(f"{_first_name(names)} names a column, but no data was given")
+    if not (_is_pandas(data) or isinstance(data, Mapping)):
+        raise TypeError(
+            "data must be a pandas DataFrame or a dict of arrays (Arrow objects are not read "
+            f"yet); got {type(data).__name__}"
+        )
+    for arg in ("x", "y"):
+        if not isinstance(names[arg], str):
+            raise TypeError(
+                f"{arg} must be a column name with data; got {type(names[arg]).__name__}"
+            )
+    columns = list(data.columns) if _is_pandas(data) else list(data.keys())
+    out = {}
+    for arg, value in names.items():
+        if not isinstance(value, str):
+            out[arg] = value
+            continue
+        if value not in columns:
+            raise ValueError(
+                f"{arg}: column {value!r} is not in data (its columns: "
+                f"{', '.join(map(str, columns))})"
+            )
+        out[arg] = _column(arg, value, data[value])
+    return out["x"], out["y"], out["size"], out["color"], out["z"], x, y
+
+
+def _first_name(names: dict) -> str:
+    arg = next(k for k, v in names.items() if isinstance(v, str))
+    return f"{arg}={names[arg]!r}"
+
+
+def _is_pandas(data: Any) -> bool:
+    return type(data).__module__.split(".")[0] == "pandas" and hasattr(data, "columns")
+
+
+def _column(arg: str, name: str, column: Any) -> Any:
+    """Column ``name`` of the table as an array: a numpy-backed column as the array it holds
+    (no copy); a nullable (extension) column converted once, refused when it holds a null."""
+    if type(column).__module__.split(".")[0] != "pandas":
+        return column  # a dict's array: read as an array argument is
+    array = column.array if hasattr(column, "array") else column
+    if isinstance(getattr(column, "dtype", None), numpy.dtype):
+        return column.to_numpy()
+    nulls = numpy.asarray(array.isna())
+    if nulls.any():
+        row = int(numpy.argmax(nulls))
+        raise ValueError(f"{arg}: column {name!r} is null at row {row}")
+    dtype = getattr(column.dtype, "numpy_dtype", None)
+    return column.to_numpy(dtype=dtype)
 
 
 def _name(column: Any) -> Optional[str]:

@@ -54,7 +54,7 @@ from typing import TYPE_CHECKING, Any, Callable, Optional, Sequence, Tuple, Unio
 import numpy
 import numpy.typing as npt
 
-from . import _native
+from . import _column, _native
 from ._image import Image
 from ._native import Plot
 
@@ -323,8 +323,12 @@ def _compute(result: Any, client: Any) -> numpy.ndarray:
 
 def _columns(part: Any, p: int, columns: dict, constants: dict) -> tuple:
     """The columns ``(x, y, z, size, color)`` of partition ``p``, numpy arrays (read in place
-    where pandas holds numpy) or constants."""
-    get = {k: part[c].to_numpy() for k, c in columns.items()}
+    where pandas holds numpy; a nullable column converted once, refused with a null, as
+    :func:`pointillist.points` reads a DataFrame's) or constants."""
+    try:
+        get = {k: _column(k, c, part[c]) for k, c in columns.items()}
+    except (ValueError, TypeError) as e:
+        raise _named(p, e) from None
     size = get.get("size", constants["size"])
     color = get.get("color", constants["color"])
     return get["x"], get["y"], get.get("z"), size, color
