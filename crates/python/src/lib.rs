@@ -12,20 +12,22 @@ mod behaviour;
 mod device;
 mod errors;
 mod interrupt;
+mod plot;
 mod scene;
 
 use std::sync::{Arc, Mutex};
 
 use numpy::{Element, PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pointillist_plot::tiles::Tiles;
-use pointillist_plot::{Blend, DataRange, Layout, Plot, Points};
+use pointillist_plot::{Layout, Plot, Points};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyType;
 
-use arrays::{ColorArg, SizeArg, colors, column, d3dcolor, sizes};
+use arrays::{ColorArg, SizeArg, colors, column, sizes};
 use errors::plot_error;
+use plot::PyPlot;
 
 /// `pointillist._image.Image`, looked up when the module is imported: a lookup during a call
 /// could run Python code, which a pending Ctrl-C would break.
@@ -68,50 +70,6 @@ fn as_image<'py>(
         .call_method1("view", (class,))
 }
 
-/// A data range argument: `None` or two numbers.
-fn data_range(name: &str, obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<DataRange>> {
-    let Some(obj) = obj else { return Ok(None) };
-    let (lo, hi): (f64, f64) = obj.extract().map_err(|_| {
-        PyValueError::new_err(format!("{name} must be None or two numbers (lo, hi)"))
-    })?;
-    Ok(Some(DataRange { lo, hi }))
-}
-
-/// The `Plot` of the keyword arguments every drawing function takes; the target's size is
-/// checked first, before anything is allocated.
-#[allow(clippy::too_many_arguments)]
-fn plot(
-    width: &Bound<'_, PyAny>,
-    height: &Bound<'_, PyAny>,
-    blend: &Bound<'_, PyAny>,
-    x_range: Option<&Bound<'_, PyAny>>,
-    y_range: Option<&Bound<'_, PyAny>>,
-    clear: &Bound<'_, PyAny>,
-    texture: Option<&Bound<'_, PyAny>>,
-    behaviour: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Plot> {
-    let (width, height) = arrays::target_size(width, height)?;
-    Ok(Plot {
-        behaviours: behaviour::behaviours(behaviour)?,
-        width,
-        height,
-        blend: blend_arg(blend)?,
-        clear: d3dcolor("clear", clear)?,
-        x_range: data_range("x_range", x_range)?,
-        y_range: data_range("y_range", y_range)?,
-        texture: texture
-            .map(|t| arrays::texture("texture", t).map(Arc::new))
-            .transpose()?,
-    })
-}
-
-/// The `blend` argument: a preset's name.
-fn blend_arg(obj: &Bound<'_, PyAny>) -> PyResult<Blend> {
-    let expected = r#"a string ("add", "alpha", "max" or "replace")"#;
-    let name: String = arrays::arg("blend", obj, expected)?;
-    Blend::from_name(&name).map_err(plot_error)
-}
-
 /// The columns of a call, held (borrowed in place or converted once) for its length.
 struct Held<'py> {
     x: arrays::ColumnArray<'py>,
@@ -120,6 +78,17 @@ struct Held<'py> {
     size: SizeArg<'py>,
     color: ColorArg<'py>,
 }
+
+/// The columns the steps of `pointillist.dask` pass, as one tuple `(x, y, z, size, color)`
+/// (`z` may be `None`; `size` and `color` may be constants).
+#[derive(FromPyObject)]
+struct Columns<'py>(
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Option<Bound<'py, PyAny>>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+);
 
 impl<'py> Held<'py> {
     fn new(
@@ -138,6 +107,10 @@ impl<'py> Held<'py> {
         })
     }
 
+    fn of(c: &Columns<'py>) -> PyResult<Self> {
+        Held::new(&c.0, &c.1, c.2.as_ref(), &c.3, &c.4)
+    }
+
     fn points(&self) -> Points<'_> {
         Points {
             x: self.x.column(),
@@ -149,38 +122,28 @@ impl<'py> Held<'py> {
     }
 }
 
-/// Draws points from numpy arrays; see `pointillist.points` for the full description.
+/// Draws points from numpy arrays with `plot`; see `pointillist.points` for the full
+/// description.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, clear, texture, backend, behaviour=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plot, x, y, *, size, color, z=None))]
 fn points<'py>(
-    py: Python<'py>,
+    plot: &Bound<'py, PyPlot>,
     x: &Bound<'py, PyAny>,
     y: &Bound<'py, PyAny>,
     size: &Bound<'py, PyAny>,
     color: &Bound<'py, PyAny>,
     z: Option<&Bound<'py, PyAny>>,
-    width: &Bound<'py, PyAny>,
-    height: &Bound<'py, PyAny>,
-    blend: &Bound<'py, PyAny>,
-    x_range: Option<&Bound<'py, PyAny>>,
-    y_range: Option<&Bound<'py, PyAny>>,
-    clear: &Bound<'py, PyAny>,
-    texture: Option<&Bound<'py, PyAny>>,
-    backend: &Bound<'py, PyAny>,
-    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let plot = plot(
-        width, height, blend, x_range, y_range, clear, texture, behaviour,
-    )?;
-    let backend = backend::name(backend)?;
+    let py = plot.py();
+    let spec = plot.get();
+    let plot = &spec.plot;
     let held = Held::new(x, y, z, size, color)?;
     let points = held.points();
-    if backend == "cpu" {
+    if spec.backend == "cpu" {
         let rgba = py.detach(|| plot.render(&points)).map_err(plot_error)?;
         return image(py, rgba, plot.width, plot.height);
     }
-    let backend = backend::backend(&backend)?;
+    let backend = backend::backend(&spec.backend)?;
     let rgba = interrupt::detach(py, || -> Result<_, pointillist_plot::PlotError> {
         plot.check(&points)?;
         let size = (plot.width, plot.height);
@@ -192,43 +155,44 @@ fn points<'py>(
     image_words(py, rgba.into_words(), plot.width, plot.height)
 }
 
+/// Checks `columns` against `plot` (dtypes, shapes, lengths, NaNs, constants) without
+/// drawing: `pointillist.dask` checks its constant size and colour before any task.
+#[pyfunction]
+fn _check(plot: &Bound<'_, PyPlot>, columns: Columns<'_>) -> PyResult<()> {
+    let held = Held::of(&columns)?;
+    plot.get().plot.check(&held.points()).map_err(plot_error)?;
+    Ok(())
+}
+
 /// The partial image of one part of a draw whose blend commutes: the points drawn onto a
 /// zero target (`Plot::partial`).
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, texture, threads=None, behaviour=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plot, columns, threads=None))]
 fn _partial<'py>(
-    py: Python<'py>,
-    x: &Bound<'py, PyAny>,
-    y: &Bound<'py, PyAny>,
-    size: &Bound<'py, PyAny>,
-    color: &Bound<'py, PyAny>,
-    width: &Bound<'py, PyAny>,
-    height: &Bound<'py, PyAny>,
-    blend: &Bound<'py, PyAny>,
-    x_range: Option<&Bound<'py, PyAny>>,
-    y_range: Option<&Bound<'py, PyAny>>,
-    texture: Option<&Bound<'py, PyAny>>,
+    plot: &Bound<'py, PyPlot>,
+    columns: Columns<'py>,
     threads: Option<usize>,
-    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let py = plot.py();
     let pool = pool(threads)?;
-    let zero = 0u32.into_pyobject(py)?.into_any();
-    let plot = plot(
-        width, height, blend, x_range, y_range, &zero, texture, behaviour,
-    )?;
-    let (width, height) = (plot.width, plot.height);
+    let plot = plot.get().partial();
     if !plot.blend.commutes() {
         return Err(PyValueError::new_err(format!(
-            "blend \"{blend}\" depends on the order of the points; draw it by tiles"
+            "blend \"{}\" depends on the order of the points; draw it by tiles",
+            plot.blend.name()
         )));
     }
-    let held = Held::new(x, y, None, size, color)?;
+    if columns.2.is_some() {
+        return Err(PyValueError::new_err(
+            "a draw with z depends on the order of the points; draw it by tiles",
+        ));
+    }
+    let held = Held::of(&columns)?;
     let points = held.points();
     let rgba = py
         .detach(|| on(&pool, || plot.render(&points)))
         .map_err(plot_error)?;
-    image(py, rgba, width, height)
+    image(py, rgba, plot.width, plot.height)
 }
 
 /// Rayon pools of a given number of threads, made on first use and kept for the process.
@@ -271,31 +235,18 @@ fn on<T: Send>(pool: &Option<Arc<rayon::ThreadPool>>, f: impl FnOnce() -> T + Se
 /// on a pool of that many threads (a Dask worker's own number of threads) instead of rayon's
 /// global pool of one thread a core.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture, out=None, threads=None, behaviour=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plot, columns, out=None, threads=None))]
 fn _counts<'py>(
-    py: Python<'py>,
-    x: &Bound<'py, PyAny>,
-    y: &Bound<'py, PyAny>,
-    size: &Bound<'py, PyAny>,
-    color: &Bound<'py, PyAny>,
-    width: &Bound<'py, PyAny>,
-    height: &Bound<'py, PyAny>,
-    blend: &Bound<'py, PyAny>,
-    x_range: Option<&Bound<'py, PyAny>>,
-    y_range: Option<&Bound<'py, PyAny>>,
-    clear: &Bound<'py, PyAny>,
-    texture: Option<&Bound<'py, PyAny>>,
+    plot: &Bound<'py, PyPlot>,
+    columns: Columns<'py>,
     out: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
-    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let py = plot.py();
     let pool = pool(threads)?;
-    let plot = plot(
-        width, height, blend, x_range, y_range, clear, texture, behaviour,
-    )?;
+    let plot = &plot.get().plot;
     let (width, height) = (plot.width, plot.height);
-    let held = Held::new(x, y, None, size, color)?;
+    let held = Held::of(&columns)?;
     let points = held.points();
     if let Some(out) = out {
         let array = count_array("out", out)?;
@@ -354,29 +305,15 @@ fn _add_counts(dst: &Bound<'_, PyAny>, src: &Bound<'_, PyAny>) -> PyResult<()> {
 /// The image of a counted draw from its counts (`Plot::from_counts`); `x`, `y` and a size
 /// column may be empty: they give the layout.
 #[pyfunction]
-#[pyo3(signature = (counts, x, y, *, size, color, width, height, blend, x_range, y_range, clear, texture, behaviour=None))]
-#[allow(clippy::too_many_arguments)]
 fn _from_counts<'py>(
-    py: Python<'py>,
+    plot: &Bound<'py, PyPlot>,
     counts: &Bound<'py, PyAny>,
-    x: &Bound<'py, PyAny>,
-    y: &Bound<'py, PyAny>,
-    size: &Bound<'py, PyAny>,
-    color: &Bound<'py, PyAny>,
-    width: &Bound<'py, PyAny>,
-    height: &Bound<'py, PyAny>,
-    blend: &Bound<'py, PyAny>,
-    x_range: Option<&Bound<'py, PyAny>>,
-    y_range: Option<&Bound<'py, PyAny>>,
-    clear: &Bound<'py, PyAny>,
-    texture: Option<&Bound<'py, PyAny>>,
-    behaviour: Option<&Bound<'py, PyAny>>,
+    columns: Columns<'py>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let plot = plot(
-        width, height, blend, x_range, y_range, clear, texture, behaviour,
-    )?;
+    let py = plot.py();
+    let plot = &plot.get().plot;
     let (width, height) = (plot.width, plot.height);
-    let held = Held::new(x, y, None, size, color)?;
+    let held = Held::of(&columns)?;
     let counts = count_array("counts", counts)?;
     let counts = counts.try_readonly()?;
     let rgba = plot
@@ -406,15 +343,15 @@ fn rgba_bytes<'py>(
     Ok(a.clone())
 }
 
-/// Combines partial image `src` into `dst` (in place) with the exact operator of `blend`
-/// (`Blend::combine`: 8-bit saturating addition for "add", maximum for "max").
+/// Combines partial image `src` into `dst` (in place) with the exact operator of `plot`'s
+/// blend (`Blend::combine`: 8-bit saturating addition for "add", maximum for "max").
 #[pyfunction]
 fn _combine(
     dst: &Bound<'_, PyAny>,
     src: &Bound<'_, PyAny>,
-    blend: &Bound<'_, PyAny>,
+    plot: &Bound<'_, PyPlot>,
 ) -> PyResult<()> {
-    let blend = blend_arg(blend)?;
+    let blend = plot.get().plot.blend;
     let dst = rgba_bytes("dst", dst)?;
     let src = rgba_bytes("src", src)?;
     let src = src.try_readonly()?;
@@ -424,34 +361,25 @@ fn _combine(
         .map_err(plot_error)
 }
 
-/// Combines the clear colour into the combined partial images `rgba` (in place)
+/// Combines `plot`'s clear colour into the combined partial images `rgba` (in place)
 /// (`Plot::finish`).
 #[pyfunction]
-fn _finish(
-    rgba: &Bound<'_, PyAny>,
-    blend: &Bound<'_, PyAny>,
-    clear: &Bound<'_, PyAny>,
-) -> PyResult<()> {
-    let plot = Plot {
-        blend: blend_arg(blend)?,
-        clear: d3dcolor("clear", clear)?,
-        ..Plot::new(1, 1)
-    };
+fn _finish(rgba: &Bound<'_, PyAny>, plot: &Bound<'_, PyPlot>) -> PyResult<()> {
+    let plot = &plot.get().plot;
     let a = rgba_bytes("rgba", rgba)?;
     let mut a = a.try_readwrite()?;
     plot.finish(contiguous(a.as_slice_mut())?)
         .map_err(plot_error)
 }
 
-/// The tiles of a `width` x `height` target: a list of `(x0, y0, x1, y1)`, row by row.
+/// The tiles of `plot`'s target: a list of `(x0, y0, x1, y1)`, row by row.
 #[pyfunction]
 fn _tiles(
-    width: &Bound<'_, PyAny>,
-    height: &Bound<'_, PyAny>,
+    plot: &Bound<'_, PyPlot>,
     tile_width: &Bound<'_, PyAny>,
     tile_height: &Bound<'_, PyAny>,
 ) -> PyResult<Vec<(i32, i32, i32, i32)>> {
-    let (width, height) = arrays::target_size(width, height)?;
+    let (width, height) = (plot.get().plot.width, plot.get().plot.height);
     let side = i128::from(u32::MAX);
     let tile_width = arrays::integer("tile_size", tile_width, 1, side)?;
     let tile_height = arrays::integer("tile_size", tile_height, 1, side)?;
@@ -471,32 +399,22 @@ type TileArrays<'py> = (Bound<'py, PyAny>, Bound<'py, PyArray1<u64>>);
 /// squares overlap (`Plot::bin`): a list with one `(vertices, index)` pair of arrays per
 /// tile, `vertices` `(k, words)` uint32 (one row a vertex), `index` `(k,)` uint64.
 #[pyfunction]
-#[pyo3(signature = (x, y, *, size, color, z, width, height, blend, x_range, y_range, first_index, tile_width, tile_height, behaviour=None))]
-#[allow(clippy::too_many_arguments)]
 fn _bin<'py>(
-    py: Python<'py>,
-    x: &Bound<'py, PyAny>,
-    y: &Bound<'py, PyAny>,
-    size: &Bound<'py, PyAny>,
-    color: &Bound<'py, PyAny>,
-    z: Option<&Bound<'py, PyAny>>,
-    width: &Bound<'py, PyAny>,
-    height: &Bound<'py, PyAny>,
-    blend: &Bound<'py, PyAny>,
-    x_range: Option<&Bound<'py, PyAny>>,
-    y_range: Option<&Bound<'py, PyAny>>,
+    plot: &Bound<'py, PyPlot>,
+    columns: Columns<'py>,
     first_index: u64,
     tile_width: u32,
     tile_height: u32,
-    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Vec<TileArrays<'py>>> {
-    let zero = 0u32.into_pyobject(py)?.into_any();
-    let plot = plot(
-        width, height, blend, x_range, y_range, &zero, None, behaviour,
-    )?;
+    let py = plot.py();
+    // The clear and the texture touch no vertex.
+    let plot = Plot {
+        texture: None,
+        ..plot.get().partial()
+    };
     let (width, height) = (plot.width, plot.height);
     let tiles = Tiles::new(width, height, tile_width, tile_height).map_err(plot_error)?;
-    let held = Held::new(x, y, z, size, color)?;
+    let held = Held::of(&columns)?;
     let points = held.points();
     let bins = py
         .detach(|| plot.bin(&points, first_index, &tiles))
@@ -515,22 +433,16 @@ fn _bin<'py>(
 /// words of the layout that `depth` and `size` give, in index order) on a target cleared to
 /// `clear` whose viewport is `rect`; returns the tile's `(h, w, 4)` RGBA.
 #[pyfunction]
-#[pyo3(signature = (vertices, rect, *, size, depth, width, height, blend, clear, texture, behaviour=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (plot, vertices, rect, *, size, depth))]
 fn _render_tile<'py>(
-    py: Python<'py>,
+    plot: &Bound<'py, PyPlot>,
     vertices: &Bound<'py, PyAny>,
     rect: (i32, i32, i32, i32),
     size: Option<f32>,
     depth: bool,
-    width: &Bound<'py, PyAny>,
-    height: &Bound<'py, PyAny>,
-    blend: &Bound<'py, PyAny>,
-    clear: &Bound<'py, PyAny>,
-    texture: Option<&Bound<'py, PyAny>>,
-    behaviour: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let plot = plot(width, height, blend, None, None, clear, texture, behaviour)?;
+    let py = plot.py();
+    let plot = &plot.get().plot;
     let layout = Layout { depth, size };
     let words: numpy::PyReadonlyArrayDyn<'_, u32> = match arrays::in_place(vertices)? {
         Some(a) => a,
@@ -595,12 +507,14 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Error", py.get_type::<errors::Error>())?;
     m.add("SceneError", py.get_type::<errors::SceneError>())?;
     m.add_class::<device::PyDevice>()?;
+    m.add_class::<PyPlot>()?;
     m.add_function(wrap_pyfunction!(points, m)?)?;
     m.add_function(wrap_pyfunction!(scene::render_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::animate, m)?)?;
     m.add_function(wrap_pyfunction!(lanes, m)?)?;
     m.add_function(wrap_pyfunction!(behaviour::behaviours_table, m)?)?;
     m.add_function(wrap_pyfunction!(behaviour::behaviour_profiles, m)?)?;
+    m.add_function(wrap_pyfunction!(_check, m)?)?;
     m.add_function(wrap_pyfunction!(_partial, m)?)?;
     m.add_function(wrap_pyfunction!(_combine, m)?)?;
     m.add_function(wrap_pyfunction!(_counts, m)?)?;

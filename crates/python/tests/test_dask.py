@@ -172,9 +172,9 @@ def test_counted_draws_of_one_colour_equal_one_sequential_draw(client, blend, si
     assert isinstance(got, pointillist.Image)
     assert np.array_equal(got, want)
     assert len(np.unique(want.reshape(-1, 4), axis=0)) > (30 if blend == "add" else 1)
+    plot = pointillist.Plot(40, 30, x_range=(0, 1), y_range=(0, 1), clear=0)
     counts = pointillist._native._counts(
-        pdf["x"].to_numpy(), pdf["y"].to_numpy(), size=2.5, color=1, width=40, height=30,
-        blend="add", x_range=(0, 1), y_range=(0, 1), clear=0, texture=None,
+        plot, (pdf["x"].to_numpy(), pdf["y"].to_numpy(), None, 2.5, 1)
     )
     assert counts.dtype == np.uint8 and counts.shape == (30, 40)
     assert (counts == 255).sum() > 50 and (counts == 0).sum() > 50
@@ -184,23 +184,23 @@ def test_counts_into_one_array():
     # _counts(out=...) adds each part's counts to out, saturating: equal to the counts of all.
     pdf, _ = frame(60_000, 5, 1)
     x, y, s = (pdf[c].to_numpy() for c in ("x", "y", "s"))
-    kw = dict(color=1, width=40, height=30, blend="add", x_range=(0, 1), y_range=(0, 1),
-              clear=0, texture=None)
-    whole = pointillist._native._counts(x, y, size=s, **kw)
+    plot = pointillist.Plot(40, 30, x_range=(0, 1), y_range=(0, 1), clear=0)
+    counts = pointillist._native._counts
+    whole = counts(plot, (x, y, None, s, 1))
     out = np.full((30, 40), 3, np.uint8)
     for rows in (slice(0, 7), slice(7, 40_000), slice(40_000, None)):
-        got = pointillist._native._counts(x[rows], y[rows], size=s[rows], out=out, **kw)
+        got = counts(plot, (x[rows], y[rows], None, s[rows], 1), out=out)
         assert got is out
     assert np.array_equal(out, np.minimum(whole.astype(int) + 3, 255))
     assert (whole == 255).sum() > 50 and ((whole > 0) & (whole < 252)).sum() > 50
     c = pdf["c"].to_numpy()
     before = out.copy()
-    assert pointillist._native._counts(x, y, size=s, out=out, **dict(kw, color=c)) is None
+    assert counts(plot, (x, y, None, s, c), out=out) is None
     assert np.array_equal(out, before)
     with pytest.raises(ValueError, match=r"out has shape \(40, 30\), not \(30, 40\)"):
-        pointillist._native._counts(x, y, size=s, out=np.zeros((40, 30), np.uint8), **kw)
+        counts(plot, (x, y, None, s, 1), out=np.zeros((40, 30), np.uint8))
     with pytest.raises(ValueError, match="out must be C-contiguous"):
-        pointillist._native._counts(x, y, size=s, out=np.zeros((40, 30), np.uint8).T, **kw)
+        counts(plot, (x, y, None, s, 1), out=np.zeros((40, 30), np.uint8).T)
 
 
 def test_tasks_draw_on_their_workers_threads(client):
@@ -210,16 +210,17 @@ def test_tasks_draw_on_their_workers_threads(client):
     assert pointillist.dask._threads() is None
     pdf, _ = frame(400_000, 12, 1)
     x, y, c = (pdf[k].to_numpy() for k in ("x", "y", "c"))
-    kw = dict(width=W, height=H, blend="add", x_range=(0, 1), y_range=(0, 1), texture=None)
-    counts = pointillist._native._counts(x, y, size=1.5, color=1, clear=0, **kw)
-    image = pointillist._native._partial(x, y, size=1.5, color=c, **kw)
+    plot = pointillist.Plot(W, H, x_range=(0, 1), y_range=(0, 1), clear=0)
+    one, many = (x, y, None, 1.5, 1), (x, y, None, 1.5, c)
+    counts = pointillist._native._counts(plot, one)
+    image = pointillist._native._partial(plot, many)
     for threads in (1, 2, 3):
-        got = pointillist._native._counts(x, y, size=1.5, color=1, clear=0, threads=threads, **kw)
+        got = pointillist._native._counts(plot, one, threads=threads)
         assert np.array_equal(got, counts), threads
-        got = pointillist._native._partial(x, y, size=1.5, color=c, threads=threads, **kw)
+        got = pointillist._native._partial(plot, many, threads=threads)
         assert np.array_equal(got, image), threads
     with pytest.raises(ValueError, match="threads must be at least 1"):
-        pointillist._native._counts(x, y, size=1.5, color=1, clear=0, threads=0, **kw)
+        pointillist._native._counts(plot, one, threads=0)
 
 
 def holders(client, df):
@@ -299,16 +300,16 @@ def test_many_workers_results_reduced_on_the_workers_first(client, kind):
     df, on = spread(client, pdf, (2, 3))
     held = pointillist.dask._held(df, client)
     items = [(w, [pf]) for w, parts in held.items() for pf in parts]
-    kw = dict(width=W, height=H, blend="add", x_range=(0, 1), y_range=(0, 1))
+    plot = pointillist.Plot(W, H, x_range=(0, 1), y_range=(0, 1))
     columns, constants = {"x": "x", "y": "y", "size": "s"}, {"size": None, "color": 0x01030507}
     if kind == "counted":
-        fn, args = pointillist.dask._count_held, (columns, constants, kw, 0xFF000000, None)
+        fn, args = pointillist.dask._count_held, (columns, constants, plot)
         combine, add = pointillist.dask._add_counts, pointillist._native._add_counts
     else:
         columns["color"], constants["color"] = "c", None
-        fn, args = pointillist.dask._partial_held, ("add", columns, constants, kw, None)
-        combine = lambda a: pointillist.dask._combine(a, "add")  # noqa: E731
-        add = lambda d, s: pointillist._native._combine(d, s, "add")  # noqa: E731
+        fn, args = pointillist.dask._partial_held, (columns, constants, plot)
+        combine = lambda a: pointillist.dask._combine(a, plot)  # noqa: E731
+        add = lambda d, s: pointillist._native._combine(d, s, plot)  # noqa: E731
     with distributed.get_task_stream(client=client) as ts:
         got = pointillist.dask._gather_sum(client, fn, items, args, combine, add, 2)
     assert len([t for t in ts.data if "held" in str(t["key"])]) == 5
@@ -319,8 +320,8 @@ def test_many_workers_results_reduced_on_the_workers_first(client, kind):
     assert np.array_equal(got, want)
     if kind == "counted":
         direct = pointillist._native._counts(
-            pdf["x"].to_numpy(), pdf["y"].to_numpy(), size=pdf["s"].to_numpy(),
-            color=0x01030507, clear=0xFF000000, texture=None, **kw)
+            plot, (pdf["x"].to_numpy(), pdf["y"].to_numpy(), None, pdf["s"].to_numpy(), 0x01030507)
+        )
         assert np.array_equal(got, direct)
 
 

@@ -27,14 +27,32 @@ Errors raise ``ValueError``/``TypeError`` (bad arguments: dtypes, shapes, NaNs, 
 the one-line message the command line prints.
 """
 
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any, Optional, Tuple, Union
+
+import numpy
+import numpy.typing as npt
+
 from . import _native
 from ._image import Image
-from ._native import Device, Error, SceneError, lanes
+from ._native import Device, Error, Plot, SceneError, lanes
+
+if TYPE_CHECKING:
+    from ._native import _Backend as Backend
+    from ._native import _Behaviour as Behaviour
+    from ._native import _Blend as Blend
+
+#: A column argument: anything numpy turns into a 1-D array of numbers.
+Column = npt.ArrayLike
 
 __all__ = [
     "Device",
     "Error",
     "Image",
+    "Plot",
     "SceneError",
     "animate",
     "behaviour_profiles",
@@ -46,22 +64,23 @@ __all__ = [
 
 
 def points(
-    x,
-    y,
+    data: Any = None,
+    x: Union[str, Column, None] = None,
+    y: Union[str, Column, None] = None,
     *,
-    size=1.0,
-    color=0xFFFFFFFF,
-    z=None,
-    width,
-    height,
-    blend="add",
-    x_range=None,
-    y_range=None,
-    clear=0xFF000000,
-    texture=None,
-    backend="cpu",
-    behaviour=None,
-):
+    size: Union[float, str, Column] = 1.0,
+    color: Union[int, str, Column] = 0xFFFFFFFF,
+    z: Union[str, Column, None] = None,
+    width: int,
+    height: int,
+    blend: Blend = "add",
+    x_range: Optional[Tuple[float, float]] = None,
+    y_range: Optional[Tuple[float, float]] = None,
+    clear: int = 0xFF000000,
+    texture: Optional[npt.NDArray[numpy.uint8]] = None,
+    backend: Backend = "cpu",
+    behaviour: Behaviour = None,
+) -> Image:
     """Draw one point sprite per row of ``x, y`` and return the image.
 
     Each point is a pre-transformed Direct3D 9 vertex (D3DFVF_XYZRHW) drawn as a square of
@@ -70,21 +89,33 @@ def points(
     ``width`` x ``height`` target cleared to ``clear``. The result is the same, bit for bit,
     as the same vertices and render states drawn from a scene file by ``pointillist render``.
 
+    It is called with arrays, ``points(x, y, ...)``, or with a table and the names of its
+    columns, ``points(data, x="col", y="col", size=..., color=..., z=...)``: ``data`` a pandas
+    DataFrame or a dict of 1-D arrays, and any of ``size``, ``color`` and ``z`` a column name
+    (a string) or, as with arrays, a constant or an array. Columns of numpy dtypes are read as
+    the arrays they hold, in place; a null in a column of a nullable (extension) dtype raises
+    ``ValueError`` naming the column and the first null row (positions, sizes, colours and
+    depths alike: a NaN size or depth is refused the same way). Arrow objects
+    (``__arrow_c_stream__``: pyarrow, polars) are not read yet.
+
     Parameters
     ----------
-    x, y : 1-D arrays of real numbers
+    data : pandas.DataFrame, dict of arrays, or None
+        The table whose columns ``x``, ``y`` (and ``size``, ``color``, ``z`` where they are
+        strings) name.
+    x, y : 1-D arrays of real numbers, or column names
         Positions. With ``x_range``/``y_range``, data coordinates mapped by
         ``X = (x - x_lo) * (width / (x_hi - x_lo)) - 0.5`` and
         ``Y = (y_hi - y) * (height / (y_hi - y_lo)) - 0.5`` (y upwards; computed in float64,
         rounded once to float32); without them, pixel coordinates (pixel centres at integers,
         y downwards). C-contiguous float32 and float64 arrays are read in place, without a
         copy; other dtypes are converted once.
-    size : float or 1-D array, default 1.0
+    size : float, 1-D array or column name, default 1.0
         Side of each square in pixels, exact (not rounded; a square covering no pixel centre
         draws nothing), clamped to 0..8192.
-    color : int, 1-D uint32 array or (n, 4) uint8 array, default 0xFFFFFFFF
+    color : int, 1-D uint32 array, (n, 4) uint8 array or column name, default 0xFFFFFFFF
         D3DCOLORs 0xAARRGGBB, or RGBA bytes per point; read in place.
-    z : 1-D array or None
+    z : 1-D array, column name or None
         Depths in 0..1 for the depth test (LESSEQUAL, depth written): the nearest point wins
         whatever the order. Points outside 0..1 are clipped, as Direct3D clips them.
     width, height : int
@@ -109,7 +140,9 @@ def points(
     -------
     Image
         An ``(height, width, 4)`` uint8 RGBA array (a ``numpy.ndarray`` subclass that shows
-        itself as a picture in Jupyter), rows top to bottom.
+        itself as a picture in Jupyter), rows top to bottom, that knows its ``x_range``,
+        ``y_range`` and ``extent`` (``img.imshow(ax)`` draws it on matplotlib Axes at its data
+        coordinates; ``img.to_pil()`` makes a Pillow image).
 
     Raises
     ------
@@ -120,30 +153,109 @@ def points(
     pointillist.Error
         When the device refuses the target (its size).
 
+    The arguments that describe the plot rather than the points (``width`` to ``behaviour``)
+    are checked first, together, as one :class:`Plot`.
+
     The GIL is released while the points are drawn.
     """
-    return _native.points(
-        x,
-        y,
-        size=size,
-        color=color,
-        z=z,
-        width=width,
-        height=height,
+    x, y, size, color, z, x_name, y_name = _columns(data, x, y, size, color, z)
+    plot = Plot(
+        width,
+        height,
         blend=blend,
         x_range=x_range,
         y_range=y_range,
         clear=clear,
         texture=texture,
-        backend=backend,
         behaviour=behaviour,
+        backend=backend,
     )
+    image = _native.points(plot, x, y, size=size, color=color, z=z)
+    return image._located(plot, x_name, y_name)
+
+
+def _columns(data: Any, x: Any, y: Any, size: Any, color: Any, z: Any) -> tuple:
+    """The arrays (or constants) ``x, y, size, color, z`` of a call with arrays or with a
+    table and column names, and the names of ``x`` and ``y`` (the columns', a Series')."""
+    names = {"x": x, "y": y, "size": size, "color": color, "z": z}
+    if not any(isinstance(v, str) for v in names.values()):
+        arrays = [a for a in (data, x, y) if a is not None]
+        if len(arrays) != 2:
+            raise TypeError(
+                "points takes the arrays x and y, or data and the names of its x and y columns"
+            )
+        x, y = arrays
+        return x, y, size, color, z, _name(x), _name(y)
+    if data is None:
+        raise TypeError(f"{_first_name(names)} names a column, but no data was given")
+    if not (_is_pandas(data) or isinstance(data, Mapping)):
+        raise TypeError(
+            "data must be a pandas DataFrame or a dict of arrays (Arrow objects are not read "
+            f"yet); got {type(data).__name__}"
+        )
+    for arg in ("x", "y"):
+        if not isinstance(names[arg], str):
+            raise TypeError(
+                f"{arg} must be a column name with data; got {type(names[arg]).__name__}"
+            )
+    columns = list(data.columns) if _is_pandas(data) else list(data.keys())
+    out = {}
+    for arg, value in names.items():
+        if not isinstance(value, str):
+            out[arg] = value
+            continue
+        if value not in columns:
+            raise ValueError(
+                f"{arg}: column {value!r} is not in data (its columns: "
+                f"{', '.join(map(str, columns))})"
+            )
+        out[arg] = _column(arg, value, data[value])
+    return out["x"], out["y"], out["size"], out["color"], out["z"], x, y
+
+
+def _first_name(names: dict) -> str:
+    arg = next(k for k, v in names.items() if isinstance(v, str))
+    return f"{arg}={names[arg]!r}"
+
+
+def _is_pandas(data: Any) -> bool:
+    return type(data).__module__.split(".")[0] == "pandas" and hasattr(data, "columns")
+
+
+def _column(arg: str, name: str, column: Any) -> Any:
+    """Column ``name`` of the table as an array: a numpy-backed column as the array it holds
+    (no copy); a nullable (extension) column converted once, refused when it holds a null."""
+    if type(column).__module__.split(".")[0] != "pandas":
+        return column  # a dict's array: read as an array argument is
+    array = column.array if hasattr(column, "array") else column
+    if isinstance(getattr(column, "dtype", None), numpy.dtype):
+        return column.to_numpy()
+    nulls = numpy.asarray(array.isna())
+    if nulls.any():
+        row = int(numpy.argmax(nulls))
+        raise ValueError(f"{arg}: column {name!r} is null at row {row}")
+    dtype = getattr(column.dtype, "numpy_dtype", None)
+    return column.to_numpy(dtype=dtype)
+
+
+def _name(column: Any) -> Optional[str]:
+    """The name of a column that has one (a pandas Series), for the image's axis labels."""
+    name = getattr(column, "name", None)
+    return name if isinstance(name, str) else None
 
 
 render_scene = _native.render_scene
 
 
-def animate(path, out, *, frames=None, backend="cpu", behaviour=None, max_pixels=1e11):
+def animate(
+    path: Union[str, os.PathLike[str]],
+    out: Union[str, os.PathLike[str]],
+    *,
+    frames: Optional[int] = None,
+    backend: Backend = "cpu",
+    behaviour: Behaviour = None,
+    max_pixels: float = 1e11,
+) -> None:
     """Render every frame of a scene's ``[animation]`` to ``out``, as ``pointillist animate``
     does: an animated GIF (``.gif``), an APNG of the exact RGBA bytes (``.png``/``.apng``), a
     numbered PNG sequence (a name with ``%d``, e.g. ``frames/f_%04d.png``) or H.264 through
@@ -166,7 +278,7 @@ def animate(path, out, *, frames=None, backend="cpu", behaviour=None, max_pixels
     )
 
 
-def behaviours():
+def behaviours() -> list[dict[str, Any]]:
     """The device behaviour switches: rules on which real D3D9 devices differ, or no record
     decides (docs/spec/SPEC.md, "Device behaviours"), as ``pointillist behaviours --json``
     lists them. A list of dicts, one a switch, with ``name``, ``options`` (their names),
@@ -178,7 +290,7 @@ def behaviours():
     return _native.behaviours_table()
 
 
-def behaviour_profiles():
+def behaviour_profiles() -> list[dict[str, Any]]:
     """The behaviour profiles: one name for the options a source shows for a whole device
     (docs/spec/SPEC.md, "Device behaviours"), as ``pointillist behaviours --profiles --json``
     lists them. A list of dicts with ``name``, ``summary``, ``settings`` (a dict of switch

@@ -46,41 +46,45 @@ Example, on a real cluster::
                                   x_range=(0, 1), y_range=(0, 1), blend="alpha")
 """
 
+from __future__ import annotations
+
 import functools
+from typing import TYPE_CHECKING, Any, Callable, Optional, Sequence, Tuple, Union
 
 import numpy
+import numpy.typing as npt
 
-from . import _native
+from . import _column, _native
 from ._image import Image
+from ._native import Plot
+
+if TYPE_CHECKING:
+    from ._native import _Behaviour as Behaviour
+    from ._native import _Blend as Blend
 
 __all__ = ["points"]
 
-_BLENDS = ("add", "alpha", "max", "replace")
-
-# The largest side of a render target (pointillist_core::device::MAX_TARGET_SIZE).
-_MAX_SIDE = 16384
-
 
 def points(
-    df,
-    x="x",
-    y="y",
+    df: Any,
+    x: str = "x",
+    y: str = "y",
     *,
-    size=1.0,
-    color=0xFFFFFFFF,
-    z=None,
-    width,
-    height,
-    blend="add",
-    x_range=None,
-    y_range=None,
-    clear=0xFF000000,
-    texture=None,
-    tile_size=256,
-    split_every=8,
-    client=None,
-    behaviour=None,
-):
+    size: Union[str, float] = 1.0,
+    color: Union[str, int] = 0xFFFFFFFF,
+    z: Optional[str] = None,
+    width: int,
+    height: int,
+    blend: Blend = "add",
+    x_range: Optional[Tuple[float, float]] = None,
+    y_range: Optional[Tuple[float, float]] = None,
+    clear: int = 0xFF000000,
+    texture: Optional[npt.NDArray[numpy.uint8]] = None,
+    tile_size: Union[int, Tuple[int, int]] = 256,
+    split_every: int = 8,
+    client: Any = None,
+    behaviour: Behaviour = None,
+) -> Image:
     """Draw the rows of Dask DataFrame ``df`` on a ``dask.distributed`` cluster, exactly.
 
     Returns what ``pointillist.points(x, y, size=..., color=..., z=..., ...)`` returns for all
@@ -119,12 +123,15 @@ def points(
     """
     import dask
 
-    if blend not in _BLENDS:
-        raise ValueError(
-            f'unknown blend "{blend}" (expected "add", "alpha", "max" or "replace")'
-        )
-    tw, th = (tile_size, tile_size) if numpy.ndim(tile_size) == 0 else tile_size
-    rects = _native._tiles(width, height, int(tw), int(th))
+    # The plot's arguments, checked once (in Rust) before any task: the workers get this
+    # Plot, pickled.
+    plot = Plot(
+        width, height, blend=blend, x_range=x_range, y_range=y_range, clear=clear,
+        texture=texture, behaviour=behaviour,
+    )
+    sides: Any = (tile_size, tile_size) if numpy.ndim(tile_size) == 0 else tile_size
+    tw, th = sides
+    rects = _native._tiles(plot, int(tw), int(th))
     if int(split_every) < 2:
         raise ValueError(f"split_every {split_every} must be at least 2")
     columns = {"x": x, "y": y}
@@ -143,42 +150,33 @@ def points(
         "size": None if "size" in columns else size,
         "color": None if "color" in columns else color,
     }
-    common = dict(
-        width=width, height=height, blend=blend, x_range=x_range, y_range=y_range,
-        behaviour=behaviour,
+    # The constant size and colour, checked as points checks them, before any task.
+    empty = numpy.zeros(0, numpy.float32)
+    _native._check(
+        plot,
+        (
+            empty,
+            empty,
+            None,
+            1.0 if constants["size"] is None else constants["size"],
+            0 if constants["color"] is None else constants["color"],
+        ),
     )
-    # Checks the scalar arguments (clear, ranges, texture, size, color, behaviour) here,
-    # before any task, with an empty draw on a 1x1 target (one of the full size costs
-    # milliseconds); the full size only when it is out of range, to raise the device's error.
-    check = functools.partial(
-        _native.points,
-        numpy.zeros(0, numpy.float32),
-        numpy.zeros(0, numpy.float32),
-        size=1.0 if constants["size"] is None else constants["size"],
-        color=0 if constants["color"] is None else constants["color"],
-        clear=clear,
-        texture=texture,
-        backend="cpu",
-        z=None,
-        **dict(common, width=1, height=1),
-    )
-    check()
-    if not (0 < width <= _MAX_SIDE and 0 < height <= _MAX_SIDE):
-        check(width=width, height=height)
     client = _client(client)
     # Fresh keys every call (pure=False): a call is never answered by the result of an
     # earlier one that the scheduler has not yet released.
     task = lambda fn, **kw: dask.delayed(fn, pure=False, **kw)  # noqa: E731
-    layout_args = _layout_args(constants, columns, common, clear, texture)
+    # Empty columns with the draw's layout (a size column or not, a colour or not).
+    layout: Any = (empty, empty, None, empty if "size" in columns else size, constants["color"])
     counted = (
         z is None
         and constants["color"] is not None
-        and _native._counts(*layout_args[:2], **layout_args[2]) is not None
+        and _native._counts(plot, layout) is not None
     )
-    commuting = counted or (blend in ("add", "max") and z is None)
+    commuting = counted or (plot.commutes and z is None)
     held = _held(df, client) if commuting else None
     if counted:
-        args = (columns, constants, common, clear, texture)
+        args = (columns, constants, plot)
         if held is not None:
             # Persisted: one task a worker over the partitions it holds, no graph to build.
             total = _gather_sum(
@@ -190,47 +188,41 @@ def points(
             counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
             total = _compute(_reduce(task, counts, _add_counts, split_every), client)
         total = numpy.asarray(total)
-        return _native._from_counts(total, *layout_args[:2], **layout_args[2]).view(Image)
-    if blend in ("add", "max") and z is None:
-        args = (columns, constants, common, texture)
+        counted_image = _native._from_counts(plot, total, layout).view(Image)
+        return counted_image._located(plot, x, y)
+    if plot.commutes and z is None:
+        args = (columns, constants, plot)
         if held is not None:
-            image = _gather_sum(
-                client, _partial_held, held.items(), (blend,) + args,
-                functools.partial(_combine, blend=blend),
-                functools.partial(_native._combine, blend=blend), split_every,
+            combined = _gather_sum(
+                client, _partial_held, held.items(), args,
+                functools.partial(_combine, plot=plot),
+                functools.partial(_native._combine, plot=plot), split_every,
             )
-            return _finish(image, blend, clear).view(Image)
+            return _finish(combined, plot).view(Image)._located(plot, x, y)
         parts = df.to_delayed()
         images = [task(_partial)(parts[p], p, *args) for p in range(len(parts))]
-        combine = functools.partial(_combine, blend=blend)
-        result = task(_finish)(_reduce(task, images, combine, split_every), blend, clear)
+        combine = functools.partial(_combine, plot=plot)
+        result = task(_finish)(_reduce(task, images, combine, split_every), plot)
     else:
         size_const = constants["size"]
-        tiling = dict(common, tile_width=int(tw), tile_height=int(th))
+        tile = (int(tw), int(th))
         parts = df.to_delayed()
         binned = [
-            task(_bin, nout=len(rects))(part, p, columns, constants, tiling)
+            task(_bin, nout=len(rects))(part, p, columns, constants, plot, tile)
             for p, part in enumerate(parts)
         ]
-        layout = dict(size=None if size_const is None else float(size_const), depth=z is not None)
+        vertex_layout = dict(
+            size=None if size_const is None else float(size_const), depth=z is not None
+        )
         tiles = [
-            task(_tile)([b[t] for b in binned], rect, layout, common, clear, texture)
+            task(_tile)([b[t] for b in binned], rect, vertex_layout, plot)
             for t, rect in enumerate(rects)
         ]
         result = task(_assemble)(tiles, rects, width, height)
-    return _compute(result, client).view(Image)
+    return _compute(result, client).view(Image)._located(plot, x, y)
 
 
-def _layout_args(constants, columns, common, clear, texture):
-    """Empty columns with the draw's layout, and the keywords, for ``_native._counts`` and
-    ``_native._from_counts``."""
-    empty = numpy.zeros(0, numpy.float32)
-    size = empty if "size" in columns else constants["size"]
-    kw = dict(common, size=size, color=constants["color"], clear=clear, texture=texture)
-    return empty, empty, kw
-
-
-def _client(client):
+def _client(client: Any) -> Any:
     """``client``, else the active ``dask.distributed`` client, else None (local scheduler)."""
     if client is None:
         try:
@@ -242,7 +234,7 @@ def _client(client):
     return client
 
 
-def _held(df, client):
+def _held(df: Any, client: Any) -> Optional[dict]:
     """Where ``df`` is persisted on ``client`` with every partition in a worker's memory: its
     partitions as ``{worker: [(index, future), ...]}``, in partition order on each worker;
     otherwise None (the partitions are computed by ``df``'s graph)."""
@@ -266,7 +258,7 @@ def _held(df, client):
         if any(f.status != "finished" for f in ordered):
             return None
         who = client.who_has(ordered)
-        held = {}
+        held: dict = {}
         for p, f in enumerate(ordered):
             workers = who.get(f.key)
             if not workers:
@@ -277,7 +269,10 @@ def _held(df, client):
         return None
 
 
-def _gather_sum(client, fn, held, args, combine, add, split_every):
+def _gather_sum(
+    client: Any, fn: Callable[..., Any], held: Any, args: tuple,
+    combine: Callable[..., Any], add: Callable[..., Any], split_every: int,
+) -> numpy.ndarray:
     """One task ``fn(*args, indices, *partitions)`` for each ``(worker, [(index, future),
     ...])`` of ``held`` (``_held``'s items), on that worker, each returning an array; the
     arrays combined into one on the client, each added with ``add(dst, src)`` (in place) as
@@ -300,7 +295,7 @@ def _gather_sum(client, fn, held, args, combine, add, split_every):
             client.submit(combine, tasks[i : i + split_every], pure=False)
             for i in range(0, len(tasks), split_every)
         ]
-    out = None
+    out: Any = None
     # Added as they arrive: the first arrays travel while the last task runs.
     for _, array in as_completed(tasks, with_results=True):
         if out is None:
@@ -311,7 +306,7 @@ def _gather_sum(client, fn, held, args, combine, add, split_every):
     return out
 
 
-def _reduce(task, items, combine, split_every):
+def _reduce(task: Callable[..., Any], items: list, combine: Callable[..., Any], split_every: int) -> Any:
     """One task combining ``items`` (tasks): a tree of ``split_every`` items a node."""
     while len(items) > 1:
         items = [
@@ -320,26 +315,31 @@ def _reduce(task, items, combine, split_every):
     return items[0]
 
 
-def _compute(result, client):
+def _compute(result: Any, client: Any) -> numpy.ndarray:
     if client is None:
         return result.compute()
     return client.compute(result).result()
 
 
-def _columns(part, p, columns, constants):
-    """The numpy columns of partition ``p`` (read in place where pandas holds numpy)."""
-    get = {k: part[c].to_numpy() for k, c in columns.items()}
+def _columns(part: Any, p: int, columns: dict, constants: dict) -> tuple:
+    """The columns ``(x, y, z, size, color)`` of partition ``p``, numpy arrays (read in place
+    where pandas holds numpy; a nullable column converted once, refused with a null, as
+    :func:`pointillist.points` reads a DataFrame's) or constants."""
+    try:
+        get = {k: _column(k, c, part[c]) for k, c in columns.items()}
+    except (ValueError, TypeError) as e:
+        raise _named(p, e) from None
     size = get.get("size", constants["size"])
     color = get.get("color", constants["color"])
     return get["x"], get["y"], get.get("z"), size, color
 
 
-def _named(p, error):
+def _named(p: int, error: Exception) -> Exception:
     """``error`` with the partition it came from."""
     return type(error)(f"partition {p}: {error}")
 
 
-def _threads():
+def _threads() -> Optional[int]:
     """The number of threads of the ``dask.distributed`` worker running this task, or None
     outside one. A task draws on that many threads: rayon's global pool has one a core, and
     worker processes of one thread each, one a core, would otherwise run that many threads
@@ -352,95 +352,99 @@ def _threads():
         return None
 
 
-def _partial(part, p, columns, constants, common, texture):
-    x, y, _, size, color = _columns(part, p, columns, constants)
+def _partial(part: Any, p: int, columns: dict, constants: dict, plot: Plot) -> numpy.ndarray:
+    cols = _columns(part, p, columns, constants)
     try:
-        image = _native._partial(
-            x, y, size=size, color=color, texture=texture, threads=_threads(), **common
-        )
+        image = _native._partial(plot, cols, threads=_threads())
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return numpy.asarray(image)
 
 
-def _count(part, p, columns, constants, common, clear, texture, out=None):
+def _count(
+    part: Any, p: int, columns: dict, constants: dict, plot: Plot,
+    out: Optional[numpy.ndarray] = None,
+) -> Optional[numpy.ndarray]:
     """The counts of partition ``p``, or with ``out`` added to it."""
-    x, y, _, size, color = _columns(part, p, columns, constants)
+    cols = _columns(part, p, columns, constants)
     try:
-        counts = _native._counts(
-            x, y, size=size, color=color, clear=clear, texture=texture, out=out,
-            threads=_threads(), **common
-        )
+        counts = _native._counts(plot, cols, out=out, threads=_threads())
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return counts
 
 
-def _count_held(columns, constants, common, clear, texture, indices, *parts):
+def _count_held(
+    columns: dict, constants: dict, plot: Plot, indices: Sequence[int], *parts: Any
+) -> numpy.ndarray:
     """The counts of ``parts`` (partitions ``indices``, in a worker's memory), added: each
     partition is counted into the same array."""
-    out = numpy.zeros((common["height"], common["width"]), numpy.uint8)
+    out = numpy.zeros((plot.height, plot.width), numpy.uint8)
     for p, part in zip(indices, parts):
-        _count(part, p, columns, constants, common, clear, texture, out=out)
+        _count(part, p, columns, constants, plot, out=out)
     return out
 
 
-def _partial_held(blend, columns, constants, common, texture, indices, *parts):
+def _partial_held(
+    columns: dict, constants: dict, plot: Plot, indices: Sequence[int], *parts: Any
+) -> Optional[numpy.ndarray]:
     """The partial images of ``parts`` (partitions ``indices``, in a worker's memory),
-    combined with ``blend``'s operator."""
+    combined with the blend's operator."""
     out = None
     for p, part in zip(indices, parts):
-        image = _partial(part, p, columns, constants, common, texture)
+        image = _partial(part, p, columns, constants, plot)
         if out is None:
             out = image
         else:
-            _native._combine(out, image, blend)
+            _native._combine(out, image, plot)
     return out
 
 
-def _add_counts(counts):
+def _add_counts(counts: Sequence[numpy.ndarray]) -> numpy.ndarray:
     out = numpy.array(counts[0])
     for c in counts[1:]:
         _native._add_counts(out, c)
     return out
 
 
-def _combine(images, blend):
+def _combine(images: Sequence[numpy.ndarray], plot: Plot) -> numpy.ndarray:
     out = numpy.array(images[0])
     for image in images[1:]:
-        _native._combine(out, image, blend)
+        _native._combine(out, image, plot)
     return out
 
 
-def _finish(image, blend, clear):
+def _finish(image: numpy.ndarray, plot: Plot) -> numpy.ndarray:
     out = numpy.array(image)
-    _native._finish(out, blend, clear)
+    _native._finish(out, plot)
     return out
 
 
-def _bin(part, p, columns, constants, tiling):
-    x, y, z, size, color = _columns(part, p, columns, constants)
+def _bin(
+    part: Any, p: int, columns: dict, constants: dict, plot: Plot, tile: Tuple[int, int]
+) -> tuple:
+    cols = _columns(part, p, columns, constants)
     try:
-        bins = _native._bin(x, y, size=size, color=color, z=z, first_index=p << 40, **tiling)
+        bins = _native._bin(plot, cols, p << 40, *tile)
     except (ValueError, TypeError) as e:
         raise _named(p, e) from None
     return tuple(bins)
 
 
-def _tile(pieces, rect, layout, common, clear, texture):
+def _tile(pieces: list, rect: Sequence[int], layout: dict, plot: Plot) -> numpy.ndarray:
     """Draws one tile from the pieces every partition sent it, in index order."""
     vertices = numpy.concatenate([v for v, _ in pieces])
     index = numpy.concatenate([i for _, i in pieces])
     if index.size > 1 and not numpy.all(index[1:] > index[:-1]):
         vertices = vertices[numpy.argsort(index, kind="stable")]
-    common = {k: v for k, v in common.items() if k not in ("x_range", "y_range")}
-    image = _native._render_tile(
-        vertices, tuple(rect), clear=clear, texture=texture, **layout, **common
-    )
+    x0, y0, x1, y1 = rect
+    image = _native._render_tile(plot, vertices, (x0, y0, x1, y1), **layout)
     return numpy.asarray(image)
 
 
-def _assemble(tiles, rects, width, height):
+def _assemble(
+    tiles: Sequence[numpy.ndarray], rects: Sequence[Sequence[int]], width: int, height: int
+) -> numpy.ndarray:
     out = numpy.empty((height, width, 4), numpy.uint8)
     for tile, (x0, y0, x1, y1) in zip(tiles, rects):
         out[y0:y1, x0:x1] = tile
