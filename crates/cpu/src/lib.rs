@@ -20,7 +20,6 @@
 //! assert_eq!(target.pixel(72, 64), 0xFF00_0000);
 //! ```
 
-mod lanes;
 mod raster;
 mod stage;
 #[cfg(test)]
@@ -34,7 +33,7 @@ use pointillist_core::draw::DrawSetup;
 /// `POINTILLIST_LANES` names a narrower one; or `portable` (plain scalar code) elsewhere or when
 /// the variable says so. The pixels are the same on every one.
 pub fn lanes() -> &'static str {
-    lanes::Level::detect().name()
+    pointillist_lanes::Level::detect().name()
 }
 
 /// A D3D9 device drawing on the CPU.

@@ -18,7 +18,7 @@ use pointillist_core::point::{
 };
 use pointillist_core::states::Cmp;
 
-use crate::lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
+use pointillist_lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
 
 /// What the fills read of a point: its covered rectangle (never empty), depth, size, near
 /// edges, diffuse colour (SPEC 4.1 to 4.3, lit by SPEC 8), vertex fog factor (SPEC 9; 1
@@ -320,7 +320,6 @@ impl VertexProcessing {
 
     /// [`SquareStage::for_each`] N vertices at a time on `lanes` from `range.start` while whole
     /// batches remain; the index of the first vertex left for one vertex at a time.
-    #[allow(unsafe_code)]
     fn for_each_batched<F: FnMut(u32, &Square)>(
         &self,
         lanes: Level,
@@ -338,13 +337,10 @@ impl VertexProcessing {
             // on SSE2; transformed ones go through `quads`.
             #[cfg(target_arch = "x86_64")]
             Level::Sse2(_) => range.start,
-            // SAFETY: the level's value proves the CPU has the features the function is
-            // compiled with (`Level::detect`).
             #[cfg(target_arch = "x86_64")]
-            Level::Avx2(l) => unsafe { batches_avx2(self, l, points, vertices, range, f) },
-            // SAFETY: as above.
+            Level::Avx2(l) => batches::avx2(l, self, points, vertices, range, f),
             #[cfg(target_arch = "x86_64")]
-            Level::Avx512(l) => unsafe { batches_avx512(self, l, points, vertices, range, f) },
+            Level::Avx512(l) => batches::avx512(l, self, points, vertices, range, f),
         }
     }
 
@@ -594,32 +590,19 @@ impl VertexProcessing {
     }
 }
 
-/// [`VertexProcessing::batches`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn batches_avx2<F: FnMut(u32, &Square)>(
-    stage: &VertexProcessing,
-    l: crate::lanes::Avx2,
-    points: &PointSetup,
-    vertices: &[u8],
-    range: std::ops::Range<u32>,
-    f: &mut F,
-) -> u32 {
-    stage.batches(l, points, vertices, range, f)
-}
-
-/// [`VertexProcessing::batches`] compiled for AVX-512 F and BW.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512bw")]
-fn batches_avx512<F: FnMut(u32, &Square)>(
-    stage: &VertexProcessing,
-    l: crate::lanes::Avx512,
-    points: &PointSetup,
-    vertices: &[u8],
-    range: std::ops::Range<u32>,
-    f: &mut F,
-) -> u32 {
-    stage.batches(l, points, vertices, range, f)
+pointillist_lanes::entry_points! {
+    /// [`VertexProcessing::batches`] compiled for each level.
+    mod batches for avx2, avx512;
+    fn [F: FnMut(u32, &Square)] [F] (
+        l,
+        stage: &VertexProcessing,
+        points: &PointSetup,
+        vertices: &[u8],
+        range: std::ops::Range<u32>,
+        f: &mut F,
+    ) -> u32 {
+        stage.batches(l, points, vertices, range, f)
+    }
 }
 
 #[cfg(test)]

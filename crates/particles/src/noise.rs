@@ -6,23 +6,17 @@
 //! period [`NOISE_PERIOD`] along every axis, and is a pure function of the seed and the
 //! position. Sampling never allocates and costs eight lattice reads; a non-finite position
 //! samples to zero. [`NoiseField::accelerate`] turns the field into the accelerations of many
-//! particles at once: eight at a time with AVX2 where the CPU has it (and `POINTILLIST_LANES`
-//! does not name `portable` or `sse2`), each lane doing [`NoiseField::sample`]'s operations in
+//! particles at once: eight at a time with AVX2 where the process's lane level has it
+//! ([`pointillist_lanes::Level::avx2`]), each lane doing [`NoiseField::sample`]'s operations in
 //! its order, so that the results are the same bits on every CPU.
 
 use crate::curve::Keyable;
 use crate::rng::Rng;
 
-#[cfg(target_arch = "x86_64")]
-pub(crate) use x86::Avx2;
-
 /// Lattice points along each axis; the field repeats every `NOISE_PERIOD` units.
 pub const NOISE_PERIOD: usize = 16;
 
 const MASK: usize = NOISE_PERIOD - 1;
-/// The environment variable that names a narrower vector level (`portable`, `sse2`, `avx2`,
-/// `avx512`), to compare them; the CPU backend reads it too.
-const LANES_VAR: &str = "POINTILLIST_LANES";
 /// Stored points along x: the period and a copy of x = 0 after x = 15, so that the two points
 /// of a cell along x are always next to each other in memory.
 const ROW: usize = NOISE_PERIOD + 1;
@@ -117,8 +111,10 @@ impl NoiseField {
         assert!(p.iter().all(|c| c.len() == n) && out.iter().all(|c| c.len() == n));
         let [ox, oy, oz] = out;
         #[cfg(target_arch = "x86_64")]
-        let first = match Avx2::get() {
-            Some(avx2) => avx2.accelerate(&self.lattice, p, d, [&mut *ox, &mut *oy, &mut *oz]),
+        let first = match pointillist_lanes::Level::detect().avx2() {
+            Some(avx2) => {
+                x86::accelerate::avx2(avx2, &self.lattice, p, d, [&mut *ox, &mut *oy, &mut *oz])
+            }
             None => 0,
         };
         #[cfg(not(target_arch = "x86_64"))]
@@ -142,50 +138,18 @@ impl NoiseField {
 mod x86 {
     use std::arch::x86_64::*;
 
-    use super::{Drive, LANES_VAR, MASK, PLANE, POINTS, ROW};
+    use super::{Drive, MASK, PLANE, POINTS, ROW};
 
-    /// Proof that the CPU has AVX2, and that [`LANES_VAR`] does not ask for less.
-    #[derive(Copy, Clone, Debug)]
-    pub(crate) struct Avx2(());
-
-    impl Avx2 {
-        /// AVX2 where the CPU has it and [`LANES_VAR`] allows it (decided once).
-        pub(crate) fn get() -> Option<Avx2> {
-            static ON: std::sync::OnceLock<Option<Avx2>> = std::sync::OnceLock::new();
-            *ON.get_or_init(|| {
-                let narrower = matches!(
-                    std::env::var(LANES_VAR).as_deref(),
-                    Ok("portable") | Ok("sse2")
-                );
-                Avx2::detect().filter(|_| !narrower)
-            })
-        }
-
-        /// AVX2 where the CPU has it.
-        pub(crate) fn detect() -> Option<Avx2> {
-            is_x86_feature_detected!("avx2").then_some(Avx2(()))
-        }
-
+    pointillist_lanes::entry_points! {
         /// Accelerates the first `8 * floor(n / 8)` particles; returns how many that is.
-        pub(super) fn accelerate(
-            self,
+        pub(super) mod accelerate for avx2;
+        fn [] [] (
+            _avx2,
             lattice: &[[f32; 4]; POINTS],
             p: [&[f32]; 3],
             d: &Drive,
             out: [&mut [f32]; 3],
         ) -> usize {
-            // SAFETY: `Avx2::get` returned `self` only after detecting AVX2.
-            unsafe { accelerate(lattice, p, d, out) }
-        }
-    }
-
-    #[target_feature(enable = "avx2")]
-    fn accelerate(
-        lattice: &[[f32; 4]; POINTS],
-        p: [&[f32]; 3],
-        d: &Drive,
-        out: [&mut [f32]; 3],
-    ) -> usize {
         let n = p[0].len() / 8 * 8;
         let [ox, oy, oz] = out;
         let (ox, oy, oz) = (&mut ox[..n], &mut oy[..n], &mut oz[..n]);
@@ -246,6 +210,7 @@ mod x86 {
             }
         }
         n
+    }
     }
 
     /// `super::cell` on eight lanes: the two lattice indices and the smoothstep weight, with
@@ -365,7 +330,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx2_accelerations_are_the_scalar_ones() {
-        let Some(avx2) = Avx2::detect() else {
+        let Some(avx2) = pointillist_lanes::Avx2::new() else {
             eprintln!("no AVX2 on this CPU: nothing to compare");
             return;
         };
@@ -430,7 +395,8 @@ mod tests {
         for d in &drives {
             let mut got = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
             let [gx, gy, gz] = &mut got;
-            let done = avx2.accelerate(&f.lattice, [&p[0], &p[1], &p[2]], d, [gx, gy, gz]);
+            let done =
+                x86::accelerate::avx2(avx2, &f.lattice, [&p[0], &p[1], &p[2]], d, [gx, gy, gz]);
             assert_eq!(done, n);
             for i in 0..n {
                 let q: [f32; 3] = std::array::from_fn(|k| p[k][i] * d.inv_scale + d.offset[k]);

@@ -153,8 +153,8 @@ fn all_set(flags: &[u8], first: usize) -> bool {
 /// eight particles at a time: each lane does the scalar arithmetic, so the bits are the same.
 fn update_block(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
     #[cfg(target_arch = "x86_64")]
-    if let Some(avx2) = crate::noise::Avx2::get() {
-        return x86::update_block(avx2, block, n, p);
+    if let Some(avx2) = pointillist_lanes::Level::detect().avx2() {
+        return update_at::avx2(avx2, block, n, p);
     }
     update_block_inline(block, n, p)
 }
@@ -317,27 +317,16 @@ fn next_dead(dead: &[u8], from: usize) -> usize {
         .unwrap_or(dead.len())
 }
 
-/// [`update_block`] compiled with AVX2.
-#[cfg(target_arch = "x86_64")]
-#[allow(unsafe_code)] // The call of a `target_feature` function.
-mod x86 {
-    use super::UpdateParams;
-    use crate::noise::Avx2;
-
-    /// [`super::update_block_inline`] with AVX2; `Avx2` proves the CPU has it.
-    pub(super) fn update_block(
-        _: Avx2,
+pointillist_lanes::entry_points! {
+    /// [`update_block_inline`], [`update_block`]'s work, compiled with AVX2.
+    mod update_at for avx2;
+    fn [] [] (
+        _avx2,
         block: &mut [f32],
         n: usize,
         p: &UpdateParams<'_>,
     ) -> usize {
-        // SAFETY: an `Avx2` is only made after detecting AVX2.
-        unsafe { update_block_avx2(block, n, p) }
-    }
-
-    #[target_feature(enable = "avx2")]
-    fn update_block_avx2(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
-        super::update_block_inline(block, n, p)
+        update_block_inline(block, n, p)
     }
 }
 
@@ -628,7 +617,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn avx2_updates_are_the_portable_ones() {
-        let Some(avx2) = crate::noise::Avx2::detect() else {
+        let Some(avx2) = pointillist_lanes::Avx2::new() else {
             eprintln!("no AVX2 on this CPU: nothing to compare");
             return;
         };
@@ -652,7 +641,7 @@ mod tests {
                 let mut a = random_block(n, seed);
                 let mut b = a.clone();
                 let live_a = update_block_inline(&mut a, n, &p);
-                let live_b = x86::update_block(avx2, &mut b, n, &p);
+                let live_b = update_at::avx2(avx2, &mut b, n, &p);
                 assert_eq!(live_a, live_b);
                 assert!(live_a < n, "some particles die");
                 let bits = |v: &[f32]| v.iter().map(|f| f.to_bits()).collect::<Vec<_>>();

@@ -27,8 +27,8 @@ fn unorm8(v: f32) -> u32 {
 /// Writes the vertices of the `n` live particles of one block into `out` (`n` vertices long).
 fn write_block(block: &[f32], n: usize, e: &Emitter, out: &mut [u8]) {
     #[cfg(target_arch = "x86_64")]
-    if let Some(avx2) = crate::noise::Avx2::get() {
-        return x86::write_block(avx2, block, n, e, out);
+    if let Some(avx2) = pointillist_lanes::Level::detect().avx2() {
+        return write_at::avx2(avx2, block, n, e, out);
     }
     write_block_inline(block, n, e, out);
 }
@@ -135,22 +135,17 @@ pub(crate) fn write_blocks(
     );
 }
 
-/// [`write_block`] compiled with AVX2.
-#[cfg(target_arch = "x86_64")]
-#[allow(unsafe_code)] // The call of a `target_feature` function.
-mod x86 {
-    use crate::emitter::Emitter;
-    use crate::noise::Avx2;
-
-    /// [`super::write_block_inline`] with AVX2; `Avx2` proves the CPU has it.
-    pub(super) fn write_block(_: Avx2, block: &[f32], n: usize, e: &Emitter, out: &mut [u8]) {
-        // SAFETY: an `Avx2` is only made after detecting AVX2.
-        unsafe { write_block_avx2(block, n, e, out) }
-    }
-
-    #[target_feature(enable = "avx2")]
-    fn write_block_avx2(block: &[f32], n: usize, e: &Emitter, out: &mut [u8]) {
-        super::write_block_inline(block, n, e, out);
+pointillist_lanes::entry_points! {
+    /// [`write_block_inline`], [`write_block`]'s work, compiled with AVX2.
+    mod write_at for avx2;
+    fn [] [] (
+        _avx2,
+        block: &[f32],
+        n: usize,
+        e: &Emitter,
+        out: &mut [u8],
+    ) {
+        write_block_inline(block, n, e, out);
     }
 }
 
@@ -282,9 +277,9 @@ mod tests {
                 write_block_inline(&block, n, &e, &mut got);
                 assert!(got == want, "portable");
                 #[cfg(target_arch = "x86_64")]
-                if let Some(avx2) = crate::noise::Avx2::detect() {
+                if let Some(avx2) = pointillist_lanes::Avx2::new() {
                     got.fill(0);
-                    x86::write_block(avx2, &block, n, &e, &mut got);
+                    write_at::avx2(avx2, &block, n, &e, &mut got);
                     assert!(got == want, "AVX2");
                 }
             }

@@ -27,6 +27,7 @@ use pointillist_core::device::MAX_TARGET_SIZE;
 use pointillist_core::draw::DrawSetup;
 use pointillist_core::pixel::{blend, write_masked};
 use pointillist_core::point::PointSetup;
+use pointillist_lanes::Level;
 use rayon::prelude::*;
 
 use crate::axes::Axis;
@@ -221,7 +222,7 @@ struct Counter<'a> {
     kept: bool,
     /// The size of every point without per-point sizes (SPEC 2).
     size: f32,
-    /// Which pass classifies the points.
+    /// The vectors the pass that classifies the points runs on.
     level: Level,
 }
 
@@ -297,18 +298,17 @@ impl<'a> Counter<'a> {
 
     /// The pixel index of each point of `rows` whose square covers exactly one pixel of the
     /// viewport, [`SLOW`] for every other point (NaN included), on the widest vectors.
-    #[allow(unsafe_code)]
     fn one_pixel(&self, rows: std::ops::Range<usize>, index: &mut [u32]) {
         let pass = Pass::new(self, rows);
         match self.level {
             Level::Portable => pass.run(index),
-            // SAFETY: the level proves the CPU has the features the function is compiled
-            // with (`Level::detect`).
+            // SSE2, the x86-64 baseline, is the portable pass's own.
             #[cfg(target_arch = "x86_64")]
-            Level::Avx2 => unsafe { pass_avx2(&pass, index) },
-            // SAFETY: as above.
+            Level::Sse2(_) => pass.run(index),
             #[cfg(target_arch = "x86_64")]
-            Level::Avx512 => unsafe { pass_avx512(&pass, index) },
+            Level::Avx2(l) => pass_at::avx2(l, &pass, index),
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512(l) => pass_at::avx512(l, &pass, index),
         }
     }
 }
@@ -398,46 +398,11 @@ impl<'a> Pass<'a> {
     }
 }
 
-/// [`Pass::run`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn pass_avx2(pass: &Pass<'_>, index: &mut [u32]) {
-    pass.run(index)
-}
-
-/// [`Pass::run`] compiled for AVX-512.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512bw,avx512dq,avx512vl")]
-fn pass_avx512(pass: &Pass<'_>, index: &mut [u32]) {
-    pass.run(index)
-}
-
-/// The vectors the pass runs on: the CPU backend's level (`pointillist_cpu::lanes`, which
-/// `POINTILLIST_LANES` narrows) where this CPU has the features the pass is compiled with.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
-enum Level {
-    Portable,
-    #[cfg(target_arch = "x86_64")]
-    Avx2,
-    #[cfg(target_arch = "x86_64")]
-    Avx512,
-}
-
-impl Level {
-    fn detect() -> Level {
-        #[cfg(target_arch = "x86_64")]
-        {
-            let avx512 = is_x86_feature_detected!("avx512f")
-                && is_x86_feature_detected!("avx512bw")
-                && is_x86_feature_detected!("avx512dq")
-                && is_x86_feature_detected!("avx512vl");
-            match pointillist_cpu::lanes() {
-                "avx512" if avx512 => return Level::Avx512,
-                "avx512" | "avx2" if is_x86_feature_detected!("avx2") => return Level::Avx2,
-                _ => {}
-            }
-        }
-        Level::Portable
+pointillist_lanes::entry_points! {
+    /// [`Pass::run`] compiled for each level.
+    mod pass_at for avx2, avx512;
+    fn [] [] (_l, pass: &Pass<'_>, index: &mut [u32]) {
+        pass.run(index)
     }
 }
 
@@ -453,21 +418,6 @@ fn value(c: Column<'_>, i: usize) -> f64 {
 mod tests {
     use super::*;
     use crate::DataRange;
-
-    /// Every level this CPU runs.
-    fn levels() -> Vec<Level> {
-        let mut levels = vec![Level::Portable];
-        #[cfg(target_arch = "x86_64")]
-        {
-            if is_x86_feature_detected!("avx2") {
-                levels.push(Level::Avx2);
-            }
-            if Level::detect() == Level::Avx512 {
-                levels.push(Level::Avx512);
-            }
-        }
-        levels
-    }
 
     /// Coordinates on and around the coverage rule's edges of a `pixels`-wide axis: pixel
     /// centres and boundaries and the floats next to them, outside the target, huge,
@@ -570,7 +520,7 @@ mod tests {
                     let state = plot.device_state(&layout);
                     let setup = DrawSetup::new(&state, layout.fvf());
                     let axes = plot.axes().unwrap();
-                    for level in levels() {
+                    for level in Level::available() {
                         let counter = Counter {
                             level,
                             ..Counter::new(&setup.points, axes, w, &points)

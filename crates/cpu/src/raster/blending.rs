@@ -12,7 +12,7 @@ use pointillist_core::states::Cmp;
 
 use super::context::DrawContext;
 use super::target::{Band, rows};
-use crate::lanes::{BASELINE, LANE_INDEX, Lanes, MAX_LANES, source_alpha_pixel};
+use pointillist_lanes::{BASELINE, LANE_INDEX, Lanes, MAX_LANES, source_alpha_pixel};
 
 /// How a source colour combines with the target.
 pub(super) trait Blender: Sync {

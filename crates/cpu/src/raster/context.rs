@@ -10,8 +10,8 @@ use pointillist_core::tolerance::sprite_texel_edges;
 
 use super::shading::Shading;
 use super::texels::StageTexture;
-use crate::lanes::Level as LanesLevel;
 use crate::stage::SquareStage;
+use pointillist_lanes::Level as LanesLevel;
 
 /// Draws with fewer points run one point after another on the calling thread, unless they
 /// cover [`PARALLEL_MIN_PIXELS`]; bigger ones are binned, with any number of threads (the
@@ -121,7 +121,7 @@ impl<'a> DrawContext<'a> {
             // take the baseline's lanes, as its per-pixel fills do (measured: W2 and W3 take 9.9 G
             // and 18.7 G instructions on the twin, 4.8 G and 8.7 G on SSE2).
             #[cfg(target_arch = "x86_64")]
-            LanesLevel::Portable => LanesLevel::Sse2(crate::lanes::BASELINE),
+            LanesLevel::Portable => LanesLevel::Sse2(pointillist_lanes::BASELINE),
             l => l,
         };
         let mut ctx = DrawContext {

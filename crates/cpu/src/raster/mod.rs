@@ -30,7 +30,7 @@
 //! the float operations of the core reference ([`pointillist_core::pixel`]) and is tested
 //! against it.
 //!
-//! [`Lanes::N`]: crate::lanes::Lanes::N
+//! [`Lanes::N`]: pointillist_lanes::Lanes::N
 
 use pointillist_core::device::RenderTarget;
 use pointillist_core::draw::DrawSetup;

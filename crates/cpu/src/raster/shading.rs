@@ -8,7 +8,7 @@ use pointillist_core::pixel::{PixelSetup, ShadeInputs};
 use pointillist_core::point::ScreenPoint;
 use pointillist_core::states::{TA_CURRENT, TA_DIFFUSE, TA_TEXTURE, TextureOp};
 
-use crate::lanes::{BASELINE, Channels, Lanes, Quad};
+use pointillist_lanes::{BASELINE, Channels, Lanes, Quad};
 
 /// The alpha of a single MODULATE stage (see [`Shading::Modulate`]).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

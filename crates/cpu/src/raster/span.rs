@@ -37,8 +37,8 @@ use super::context::DrawContext;
 use super::shading::ModulateAlpha;
 use super::target::{Band, rows};
 use super::texels::PlanarLevel;
-use crate::lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable, channels};
 use crate::stage::Square;
+use pointillist_lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable, channels};
 
 impl PlanarLevel {
     /// [`MAX_LANES`] + 1 entries of each plane from entry `x` of row `y` (into the padding
@@ -124,85 +124,55 @@ pub(super) fn fill<B: Blender>(
     // before it (measured: a runtime choice cost W2 and W3 3 to 4.5 % more instructions).
     let fog = px.fog.is_some();
     macro_rules! at {
-        ($l:expr, $f:ident) => {
+        ($l:expr, $($f:ident)::+ $(, $lanes:ty)?) => {
             match (linear, plain, fog) {
-                (true, true, false) => $f::<_, B, true, true, false>($l, draw, p, band, s, texture),
+                (true, true, false) => $($f)::+::<$($lanes,)? B, true, true, false>($l, draw, p, band, s, texture),
                 (true, false, false) => {
-                    $f::<_, B, true, false, false>($l, draw, p, band, s, texture)
+                    $($f)::+::<$($lanes,)? B, true, false, false>($l, draw, p, band, s, texture)
                 }
                 (false, true, false) => {
-                    $f::<_, B, false, true, false>($l, draw, p, band, s, texture)
+                    $($f)::+::<$($lanes,)? B, false, true, false>($l, draw, p, band, s, texture)
                 }
                 (false, false, false) => {
-                    $f::<_, B, false, false, false>($l, draw, p, band, s, texture)
+                    $($f)::+::<$($lanes,)? B, false, false, false>($l, draw, p, band, s, texture)
                 }
-                (true, true, true) => $f::<_, B, true, true, true>($l, draw, p, band, s, texture),
-                (true, false, true) => $f::<_, B, true, false, true>($l, draw, p, band, s, texture),
-                (false, true, true) => $f::<_, B, false, true, true>($l, draw, p, band, s, texture),
+                (true, true, true) => $($f)::+::<$($lanes,)? B, true, true, true>($l, draw, p, band, s, texture),
+                (true, false, true) => $($f)::+::<$($lanes,)? B, true, false, true>($l, draw, p, band, s, texture),
+                (false, true, true) => $($f)::+::<$($lanes,)? B, false, true, true>($l, draw, p, band, s, texture),
                 (false, false, true) => {
-                    $f::<_, B, false, false, true>($l, draw, p, band, s, texture)
+                    $($f)::+::<$($lanes,)? B, false, false, true>($l, draw, p, band, s, texture)
                 }
             }
         };
     }
     match level {
-        Level::Portable => at!(Portable::<8>, fill_with),
+        Level::Portable => at!(Portable::<8>, fill_with, _),
         #[cfg(target_arch = "x86_64")]
-        Level::Sse2(l) => at!(l, fill_sse2),
-        // SAFETY: the level's value proves the CPU has the features the function is compiled
-        // with (`Level::detect`).
+        Level::Sse2(l) => at!(l, fill_at::sse2),
         #[cfg(target_arch = "x86_64")]
-        Level::Avx2(l) => unsafe { at!(l, fill_avx2) },
-        // SAFETY: as above.
+        Level::Avx2(l) => at!(l, fill_at::avx2),
         #[cfg(target_arch = "x86_64")]
-        Level::Avx512(l) if p.rect.x1 - p.rect.x0 <= 8 => unsafe { at!(l.narrow(), fill_avx2) },
-        // SAFETY: as above.
+        Level::Avx512(l) if p.rect.x1 - p.rect.x0 <= 8 => at!(l.narrow(), fill_at::avx2),
         #[cfg(target_arch = "x86_64")]
-        Level::Avx512(l) => unsafe { at!(l, fill_avx512) },
+        Level::Avx512(l) => at!(l, fill_at::avx512),
     }
 }
 
-/// [`fill_with`] on SSE2, out of line like the other levels' (inlined, it made [`fill`]'s
-/// dispatch slower on them).
-#[cfg(target_arch = "x86_64")]
-#[inline(never)]
-fn fill_sse2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const FOG: bool>(
-    l: L,
-    draw: SpanDraw<B>,
-    p: &Square,
-    band: &mut Band,
-    s: &mut SpanScratch,
-    texture: SpanTexture,
-) -> bool {
-    fill_with::<L, B, LINEAR, PLAIN, FOG>(l, draw, p, band, s, texture)
-}
-
-/// [`fill_with`] compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn fill_avx2<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const FOG: bool>(
-    l: L,
-    draw: SpanDraw<B>,
-    p: &Square,
-    band: &mut Band,
-    s: &mut SpanScratch,
-    texture: SpanTexture,
-) -> bool {
-    fill_with::<L, B, LINEAR, PLAIN, FOG>(l, draw, p, band, s, texture)
-}
-
-/// [`fill_with`] compiled for AVX-512 F and BW.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512bw")]
-fn fill_avx512<L: Lanes, B: Blender, const LINEAR: bool, const PLAIN: bool, const FOG: bool>(
-    l: L,
-    draw: SpanDraw<B>,
-    p: &Square,
-    band: &mut Band,
-    s: &mut SpanScratch,
-    texture: SpanTexture,
-) -> bool {
-    fill_with::<L, B, LINEAR, PLAIN, FOG>(l, draw, p, band, s, texture)
+pointillist_lanes::entry_points! {
+    /// [`fill_with`] on each level, out of line (inlined on SSE2, it made [`fill`]'s dispatch
+    /// slower on the other levels).
+    mod fill_at for sse2, avx2, avx512;
+    fn [B: Blender, const LINEAR: bool, const PLAIN: bool, const FOG: bool]
+    [B, LINEAR, PLAIN, FOG] (
+        l,
+        draw: SpanDraw<B>,
+        p: &Square,
+        band: &mut Band,
+        s: &mut SpanScratch,
+        texture: SpanTexture,
+    ) -> bool {
+        fill_with::<_, B, LINEAR, PLAIN, FOG>(l, draw, p, band, s, texture)
+    }
 }
 
 /// The plane entries and weights of the `count` pixels from `first` along an axis of a sprite

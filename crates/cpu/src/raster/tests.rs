@@ -18,8 +18,8 @@ use super::blending::{General, Replace};
 use super::context::DrawContext;
 use super::shading::Shading;
 use super::{Bins, draw_context, draw_with};
-use crate::lanes::Level as LanesLevel;
 use crate::test_rng::Rng;
+use pointillist_lanes::Level as LanesLevel;
 
 /// A draw into `target` with `bins` and no clear.
 fn drawing<'t>(target: &'t mut RenderTarget, bins: &'t mut Bins) -> DrawTarget<'t> {

@@ -16,8 +16,8 @@ use pointillist_core::texture::{
     Level, LodSampler, SamplerDesc, Texture, fetch, linear_texel, point_texel,
 };
 
-use crate::lanes::{BASELINE, Channels, Lanes, MAX_LANES, Quad};
 use crate::stage::Square;
+use pointillist_lanes::{BASELINE, Channels, Lanes, MAX_LANES, Quad};
 
 /// A stage's texture and sampler for the draw.
 pub(super) struct StageTexture<'a> {

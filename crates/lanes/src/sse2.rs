@@ -6,19 +6,19 @@
 
 use std::arch::x86_64::*;
 
-use super::{Lanes, Quad, with_features};
+use crate::{Lanes, Quad, with_features};
 use pointillist_core::states::Cmp;
 
 /// Four lanes of SSE2.
-#[derive(Copy, Clone, Debug)]
-pub(crate) struct Sse2(());
+#[derive(Copy, Clone, Debug, Default)]
+pub struct Sse2(());
 
 #[cfg(not(target_feature = "sse2"))]
 compile_error!("an x86-64 build without SSE2, which the SSE2 level takes as the baseline");
 
 impl Sse2 {
     /// The level: SSE2 is part of the x86-64 baseline the build targets.
-    pub(crate) const fn new() -> Sse2 {
+    pub const fn new() -> Sse2 {
         Sse2(())
     }
 }

@@ -1,26 +1,31 @@
-//! [`Avx512`]: sixteen lanes of AVX-512 F and BW, for CPUs that have them ([`Avx512::new`]).
+//! [`Avx512`]: sixteen lanes of AVX-512 F and BW, for CPUs that have them with DQ and VL
+//! ([`Avx512::new`]).
 
 use std::arch::x86_64::*;
 
-use super::avx2::{ALPHA_WORDS, Avx2};
-use super::{Lanes, with_features};
+use crate::avx2::{ALPHA_WORDS, Avx2};
+use crate::{Lanes, with_features};
 use pointillist_core::states::Cmp;
 
-/// Sixteen lanes of AVX-512 (F and BW); exists only where the CPU has both, and AVX2.
+/// Sixteen lanes of AVX-512 (F and BW); exists only where the CPU has them, DQ, VL and AVX2
+/// (the features [`entry_points!`](crate::entry_points)' AVX-512 functions are compiled with:
+/// the plot's pass uses DQ and VL; every CPU with BW has both).
 #[derive(Copy, Clone, Debug)]
-pub(crate) struct Avx512(());
+pub struct Avx512(());
 
 impl Avx512 {
-    /// The level, when the CPU has AVX-512 F and BW, and AVX2.
-    pub(crate) fn new() -> Option<Avx512> {
+    /// The level, when the CPU has AVX-512 F, BW, DQ and VL, and AVX2.
+    pub fn new() -> Option<Avx512> {
         (is_x86_feature_detected!("avx512f")
             && is_x86_feature_detected!("avx512bw")
+            && is_x86_feature_detected!("avx512dq")
+            && is_x86_feature_detected!("avx512vl")
             && is_x86_feature_detected!("avx2"))
         .then_some(Avx512(()))
     }
 
     /// The eight lanes of the same CPU, for spans too narrow to fill sixteen.
-    pub(crate) fn narrow(self) -> Avx2 {
+    pub fn narrow(self) -> Avx2 {
         Avx2(())
     }
 }

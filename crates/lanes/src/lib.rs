@@ -1,10 +1,13 @@
-//! The machine's vectors: [`Lanes`] is N lanes of f32 and of u32 with the operations the
-//! wide sprite spans and the point stage's batches need (SPEC 1's unpack and round-to-nearest
-//! pack, the sampler's lerp, the blend arithmetic, the alpha and depth comparisons, the
-//! stage's tests and ceilings), one file per level: AVX-512 (sixteen lanes, `avx512.rs`), AVX2
-//! (eight, `avx2.rs`), SSE2 (four, `sse2.rs`: the x86-64 baseline) and a portable twin (eight
-//! lanes of plain scalar code, `portable.rs`: the reference the tests compare the others
-//! with). [`Level`] chooses one per process; the scalar helpers the levels share are here.
+//! The machine's vectors, one foundation for the workspace: [`Lanes`] is N lanes of f32 and of
+//! u32 with the operations the CPU backend's wide sprite spans and point stage's batches need
+//! (SPEC 1's unpack and round-to-nearest pack, the sampler's lerp, the blend arithmetic, the
+//! alpha and depth comparisons, the stage's tests and ceilings), one file per level: AVX-512
+//! (sixteen lanes, `avx512.rs`), AVX2 (eight, `avx2.rs`), SSE2 (four, `sse2.rs`: the x86-64
+//! baseline) and a portable twin (eight lanes of plain scalar code, `portable.rs`: the
+//! reference the tests compare the others with). [`Level`] chooses one per process, the one
+//! place that reads [`LANES_VAR`] and detects the CPU's features; the particles and the plot
+//! take their levels from it too. [`entry_points!`] writes a generic kernel's per-level
+//! `#[target_feature]` functions. The scalar helpers the levels share are here.
 //!
 //! Contract: every operation is, lane by lane, the exact IEEE f32 operation (or the integer
 //! operation) the scalar reference performs, never fused, so a span gives the bits of its
@@ -13,7 +16,7 @@
 //! A value of [`Avx2`] or [`Avx512`] exists only once the CPU has been seen to have the
 //! features ([`Level::detect`]); their operations call the intrinsics, which is sound because
 //! holding the value proves the features. Code generic over `L: Lanes` must be inlined into a
-//! function compiled with the features ([`Level`] names them), so every operation is
+//! function compiled with the features ([`entry_points!`] writes them), so every operation is
 //! `#[inline(always)]`; SSE2's need no such function.
 
 #![allow(unsafe_code)]
@@ -23,6 +26,7 @@ use pointillist_core::states::Cmp;
 /// `[e(0), e(1), e(2), e(3)]` for the four channels, written out: closures (`array::map`,
 /// `array::from_fn`) are functions of their own, compiled without the features of the
 /// function they would otherwise inline into, and would call every intrinsic out of line.
+#[macro_export]
 macro_rules! channels {
     (|$c:ident| $e:expr) => {
         [
@@ -45,17 +49,15 @@ macro_rules! channels {
         ]
     };
 }
-pub(crate) use channels;
 
 /// Lane numbers: `load_u(&LANE_INDEX)` is `0, 1, 2, ...` in the lanes.
-pub(crate) const LANE_INDEX: [u32; MAX_LANES] =
-    [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+pub const LANE_INDEX: [u32; MAX_LANES] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
 
 /// The most lanes any implementation has: scratch rows are padded to a multiple of it.
-pub(crate) const MAX_LANES: usize = 16;
+pub const MAX_LANES: usize = 16;
 
 /// N lanes of f32 ([`Lanes::F`]), of u32 ([`Lanes::U`]) and a lane mask ([`Lanes::M`]).
-pub(crate) trait Lanes: Copy + Send + Sync {
+pub trait Lanes: Copy + Send + Sync {
     /// The number of lanes.
     const N: usize;
     /// N f32.
@@ -192,7 +194,7 @@ pub(crate) trait Lanes: Copy + Send + Sync {
 /// the distance to one; a test checks all of them), and the integers take a third of the
 /// vector operations.
 #[inline(always)]
-pub(crate) fn source_alpha_pixel(src: u32, dst: u32) -> u32 {
+pub fn source_alpha_pixel(src: u32, dst: u32) -> u32 {
     let a = src >> 24;
     let channel = |shift: u32| {
         let (s, d) = ((src >> shift) & 0xFF, (dst >> shift) & 0xFF);
@@ -208,7 +210,7 @@ pub(crate) fn source_alpha_pixel(src: u32, dst: u32) -> u32 {
 /// rounding) gives the same byte for every one of the 2^16 inputs of a channel (the exact
 /// quotient is never a half; a test checks all of them).
 #[inline(always)]
-pub(crate) fn modulate_pixel(a: u32, b: u32) -> u32 {
+pub fn modulate_pixel(a: u32, b: u32) -> u32 {
     let channel = |shift: u32| div_255(((a >> shift) & 0xFF) * ((b >> shift) & 0xFF)) << shift;
     channel(0) | channel(8) | channel(16) | channel(24)
 }
@@ -226,7 +228,7 @@ fn div_255(x: u32) -> u32 {
 
 /// Four lanes as the four channels of one colour in D3DCOLOR byte order (blue, green, red,
 /// alpha; lane `c` holds channel `c`), for the fills that shade one pixel at a time.
-pub(crate) trait Quad: Lanes {
+pub trait Quad: Lanes {
     /// SPEC 1's unpack of the D3DCOLOR `c` (`color::unpack`, reordered into lanes).
     fn color(self, c: u32) -> Self::F;
     /// SPEC 1's pack of the lanes (`color::pack`: saturate, scale by 255, round half up; NaN
@@ -243,96 +245,42 @@ pub(crate) trait Quad: Lanes {
 
 /// The four lanes every CPU of the target has: SSE2 on x86-64, the portable twin elsewhere.
 #[cfg(target_arch = "x86_64")]
-pub(crate) type Baseline = Sse2;
+pub type Baseline = Sse2;
 /// The four lanes every CPU of the target has: SSE2 on x86-64, the portable twin elsewhere.
 #[cfg(not(target_arch = "x86_64"))]
-pub(crate) type Baseline = Portable<4>;
+pub type Baseline = Portable<4>;
 
 // A colour's four channels are one vector of [`Baseline`]'s lanes, and rectangles of one
 // colour blend four pixels at a time in them.
 const _: () = assert!(<Baseline as Lanes>::N == 4);
 
-/// One colour's four channels in [`Baseline`]'s lanes.
-pub(crate) type Channels = <Baseline as Lanes>::F;
+/// One colour's four channels in [`Baseline`]'s lanes, named by its type (a projection through
+/// [`Lanes`] would not be known apart from other types in the impls of other crates).
+#[cfg(target_arch = "x86_64")]
+pub type Channels = std::arch::x86_64::__m128;
+/// One colour's four channels in [`Baseline`]'s lanes, named by its type (a projection through
+/// [`Lanes`] would not be known apart from other types in the impls of other crates).
+#[cfg(not(target_arch = "x86_64"))]
+pub type Channels = [f32; 4];
+const _: fn(Channels) -> <Baseline as Lanes>::F = |c| c;
 
 /// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
 /// single pixels of the fills, the rectangles of one colour, the wide spans on the portable
 /// level, and the vertices the stage's batches leave over.
 #[cfg(target_arch = "x86_64")]
-pub(crate) const BASELINE: Baseline = Sse2::new();
+pub const BASELINE: Baseline = Sse2::new();
 /// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
 /// single pixels of the fills, the rectangles of one colour, the wide spans on the portable
 /// level, and the vertices the stage's batches leave over.
 #[cfg(not(target_arch = "x86_64"))]
-pub(crate) const BASELINE: Baseline = Portable;
+pub const BASELINE: Baseline = Portable;
 
-/// The environment variable that chooses a narrower [`Level`] than the widest the CPU has
-/// (`portable`, `sse2`, `avx2`, `avx512`), to compare them.
-pub(crate) const LANES_VAR: &str = "POINTILLIST_LANES";
-
-/// Which [`Lanes`] this machine runs, detected once.
-#[derive(Copy, Clone, Debug)]
-pub(crate) enum Level {
-    /// [`Portable`] with eight lanes.
-    Portable,
-    /// [`Avx2`].
-    #[cfg(target_arch = "x86_64")]
-    Avx2(Avx2),
-    /// [`Avx512`].
-    #[cfg(target_arch = "x86_64")]
-    Avx512(Avx512),
-    /// [`Sse2`] (last: the wide spans' dispatch on the other levels then compiles as before
-    /// it came, a comparison less a sprite).
-    #[cfg(target_arch = "x86_64")]
-    Sse2(Sse2),
-}
-
-impl Level {
-    /// The level the spans run on, chosen once per process: the one [`LANES_VAR`] names when
-    /// the CPU supports it, else the widest the CPU supports.
-    pub(crate) fn detect() -> Level {
-        static LEVEL: std::sync::OnceLock<Level> = std::sync::OnceLock::new();
-        *LEVEL.get_or_init(|| {
-            let wanted = std::env::var(LANES_VAR).ok();
-            let available = Level::available();
-            let named = available
-                .iter()
-                .find(|l| wanted.as_deref() == Some(l.name()));
-            *named.or(available.last()).unwrap_or(&Level::Portable)
-        })
-    }
-
-    /// The level's name: `portable`, `sse2`, `avx2` or `avx512`.
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            Level::Portable => "portable",
-            #[cfg(target_arch = "x86_64")]
-            Level::Sse2(_) => "sse2",
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2(_) => "avx2",
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512(_) => "avx512",
-        }
-    }
-
-    /// Every level the CPU supports, narrowest first (for the tests, which run each).
-    pub(crate) fn available() -> Vec<Level> {
-        #[cfg(target_arch = "x86_64")]
-        let wide = [
-            Some(Level::Sse2(BASELINE)),
-            Avx2::new().map(Level::Avx2),
-            Avx512::new().map(Level::Avx512),
-        ];
-        #[cfg(not(target_arch = "x86_64"))]
-        let wide: [Option<Level>; 0] = [];
-        std::iter::once(Level::Portable)
-            .chain(wide.into_iter().flatten())
-            .collect()
-    }
-}
+mod entry;
+mod level;
+pub use level::{LANES_VAR, Level};
 
 mod portable;
-pub(crate) use portable::Portable;
+pub use portable::Portable;
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
@@ -341,7 +289,7 @@ mod avx512;
 #[cfg(target_arch = "x86_64")]
 mod sse2;
 #[cfg(target_arch = "x86_64")]
-pub(crate) use {avx2::Avx2, avx512::Avx512, sse2::Sse2};
+pub use {avx2::Avx2, avx512::Avx512, sse2::Sse2};
 
 /// `unsafe { ... }` in the operations of [`Sse2`], [`Avx2`] and [`Avx512`].
 #[cfg(target_arch = "x86_64")]
@@ -359,10 +307,14 @@ macro_rules! with_features {
 use with_features;
 
 #[cfg(test)]
+#[path = "../../cpu/src/test_rng.rs"]
+mod test_rng;
+
+#[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_rng::Rng;
     use pointillist_core::color::{f32_to_unorm8, unorm8_to_f32};
+    use test_rng::Rng;
 
     /// How far outside `0..=1` [`Lanes::round_unit`] may be given a value.
     const UNIT_SLACK: f32 = 1.0 / 512.0;

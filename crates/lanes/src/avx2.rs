@@ -2,7 +2,7 @@
 
 use std::arch::x86_64::*;
 
-use super::{Lanes, with_features};
+use crate::{Lanes, with_features};
 use pointillist_core::states::Cmp;
 
 /// Rows of at most this many D3DCOLORs [`Avx2`]'s `gather_u` reads from registers (a
@@ -15,18 +15,18 @@ const PIXEL_BYTES: [i64; 2] = [0x0D09_0501_0C08_0400, 0x0F0B_0703_0E0A_0602];
 
 /// `pshufb` indices that copy each pixel's alpha word to its four channel words (the high
 /// byte of each zeroed), for the first and the second pixel of a 64-bit half.
-pub(super) const ALPHA_WORDS: [i64; 2] = [
+pub(crate) const ALPHA_WORDS: [i64; 2] = [
     0x8006_8006_8006_8006_u64 as i64,
     0x800E_800E_800E_800E_u64 as i64,
 ];
 
 /// Eight lanes of AVX2; exists only where the CPU has AVX2.
 #[derive(Copy, Clone, Debug)]
-pub(crate) struct Avx2(pub(super) ());
+pub struct Avx2(pub(crate) ());
 
 impl Avx2 {
     /// The level, when the CPU has AVX2.
-    pub(crate) fn new() -> Option<Avx2> {
+    pub fn new() -> Option<Avx2> {
         is_x86_feature_detected!("avx2").then_some(Avx2(()))
     }
 }

@@ -1,15 +1,15 @@
 //! [`Portable`]: N lanes of plain scalar code: eight are the reference the other levels are
 //! tested against and the level of CPUs without vectors this crate knows; four are the
-//! baseline of targets other than x86-64 (see [`super::BASELINE`]).
+//! baseline of targets other than x86-64 (see [`crate::BASELINE`]).
 
 use pointillist_core::color::{f32_to_unorm8, unorm8_to_f32};
 use pointillist_core::states::Cmp;
 
-use super::{Lanes, Quad, modulate_pixel, source_alpha_pixel};
+use crate::{Lanes, Quad, modulate_pixel, source_alpha_pixel};
 
 /// The portable twin: `W` lanes of the scalar reference, lane by lane.
 #[derive(Copy, Clone, Debug, Default)]
-pub(crate) struct Portable<const W: usize>;
+pub struct Portable<const W: usize>;
 
 impl<const W: usize> Lanes for Portable<W> {
     const N: usize = W;
