@@ -209,6 +209,21 @@ impl LightSetup {
         })
     }
 
+    /// The draw's lighting as [`AmbientEmissive`] when no light is active and the material's
+    /// diffuse colour is finite; `None` otherwise.
+    pub fn without_lights(&self) -> Option<AmbientEmissive> {
+        let m = &self.material;
+        if self.count != 0 || !m.diffuse.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        Some(AmbientEmissive {
+            global_ambient: self.global_ambient,
+            ambient: (self.sources[1], m.ambient),
+            emissive: (self.sources[3], m.emissive),
+            diffuse: (self.sources[0], m.diffuse),
+        })
+    }
+
     /// The active lights.
     pub fn active_lights(&self) -> &[EyeLight] {
         &self.lights[..self.count]
@@ -345,6 +360,46 @@ impl LightSetup {
         (lit_diffuse, lit_specular)
     }
 }
+
+/// SPEC 8.7 for a draw without an active light: the lit diffuse colour is `Ca * AMBIENT + Ce`
+/// in red, green and blue, and `Cd`'s alpha: [`LightSetup::light`]'s diffuse colour with every
+/// light's terms zero. Equal to it when the material's diffuse colour is finite (its `Cd * 0`
+/// term is then zero), which [`LightSetup::without_lights`] checks. The CPU's vertex stage
+/// computes it on lanes (`stage::VertexProcessing`) and is tested against
+/// [`AmbientEmissive::diffuse`].
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct AmbientEmissive {
+    /// AMBIENT, the global ambient light.
+    pub global_ambient: Rgba,
+    /// `Ca`: its source, and the material's ambient colour.
+    pub ambient: (ColorSource, Rgba),
+    /// `Ce`: its source, and the material's emissive colour.
+    pub emissive: (ColorSource, Rgba),
+    /// `Cd`, whose alpha is the lit alpha: its source, and the material's diffuse colour.
+    pub diffuse: (ColorSource, Rgba),
+}
+
+impl AmbientEmissive {
+    /// The lit diffuse colour of a vertex with colours `diffuse` and `specular` (read only
+    /// when a source names them).
+    #[inline]
+    pub fn diffuse(&self, diffuse: u32, specular: u32) -> u32 {
+        let pick = |(source, material): (ColorSource, Rgba)| match source {
+            ColorSource::Material => material,
+            ColorSource::Diffuse => unpack(diffuse),
+            ColorSource::Specular => unpack(specular),
+        };
+        let (ca, ce, cd) = (pick(self.ambient), pick(self.emissive), pick(self.diffuse));
+        let g = self.global_ambient;
+        pack([
+            ca[0] * g[0] + ce[0],
+            ca[1] * g[1] + ce[1],
+            ca[2] * g[2] + ce[2],
+            cd[3],
+        ])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -629,6 +684,66 @@ mod tests {
             pack([1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0, 0.0])
         );
         assert_eq!(s.light([0.0, 0.0, 0.0], [0.0; 3], 0, 0).0, 0);
+    }
+
+    /// `AmbientEmissive` is `light`'s diffuse colour without lights, for every source, for
+    /// materials with large, negative, infinite and NaN ambient and emissive colours, and for
+    /// vertex colours across their bytes.
+    #[test]
+    fn spec_8_7_without_lights_is_the_lit_diffuse_colour() {
+        let odd = [
+            0.0,
+            -0.0,
+            0.5,
+            1.0,
+            1.5,
+            -0.25,
+            3.0e38,
+            f32::INFINITY,
+            f32::NAN,
+            0.2,
+        ];
+        let fvf = Fvf(Fvf::XYZ.0 | Fvf::NORMAL.0 | Fvf::DIFFUSE.0 | Fvf::SPECULAR.0);
+        let mut checked = 0;
+        for (k, (&a, &e)) in odd.iter().zip(odd.iter().rev()).enumerate() {
+            let material = Material {
+                ambient: [a, 0.75, e, 0.5],
+                emissive: [e, 0.125, a, 1.0],
+                diffuse: [0.5, 0.25, 1.0, odd[(k + 3) % 5]],
+                ..Material::default()
+            };
+            for sources in 0..27u32 {
+                let states = [
+                    (RenderState::AMBIENT, 0x80FF_4000 | k as u32),
+                    (RenderState::DIFFUSEMATERIALSOURCE, sources % 3),
+                    (RenderState::AMBIENTMATERIALSOURCE, sources / 3 % 3),
+                    (RenderState::EMISSIVEMATERIALSOURCE, sources / 9),
+                ];
+                let s = setup(&states, material, &Lights::default(), Mat4::IDENTITY, fvf);
+                let s = s.unwrap();
+                let ae = s.without_lights().unwrap();
+                for byte in (0..=255u32).step_by(17) {
+                    let d = byte * 0x0101_0101 ^ 0x00FF_0F00;
+                    let sp = byte.rotate_left(8) | 0x0300_00F0;
+                    let want = s.light_diffuse([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], d, sp);
+                    assert_eq!(ae.diffuse(d, sp), want, "{material:?} {states:?} {d:08x}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 10 * 27 * 16);
+        // An active light, or a material diffuse colour that is not finite, takes `light`.
+        let material = Material {
+            diffuse: [f32::INFINITY, 0.0, 0.0, 1.0],
+            ..Material::default()
+        };
+        let s = setup(&[], material, &Lights::default(), Mat4::IDENTITY, fvf).unwrap();
+        assert_eq!(s.without_lights(), None);
+        let mut lights = Lights::default();
+        lights.set(0, Light::DEFAULT);
+        lights.enable(0, true);
+        let s = setup(&[], Material::default(), &lights, Mat4::IDENTITY, fvf).unwrap();
+        assert_eq!(s.without_lights(), None);
     }
 
     #[test]

@@ -700,11 +700,22 @@ impl PointSetup {
             }
             None => (diffuse, if SPECULAR { specular } else { 0 }),
         };
-        let fog = self
-            .fog
+        (diffuse, specular, self.fog_of(eye, depth, vertex_specular))
+    }
+
+    /// SPEC 9.1 to 9.5: [`PointSetup::colors`]'s fog factor alone.
+    #[inline]
+    pub fn fog_factor(&self, v: &[u8], eye: [f32; 3], depth: &FogDepth) -> f32 {
+        let vertex_specular = self.layout.specular.map(|o| read_u32(v, o));
+        self.fog_of(eye, depth, vertex_specular)
+    }
+
+    /// The fog factor of a vertex whose specular colour is `vertex_specular`; 1 unfogged.
+    #[inline(always)]
+    fn fog_of(&self, eye: [f32; 3], depth: &FogDepth, vertex_specular: Option<u32>) -> f32 {
+        self.fog
             .as_ref()
-            .map_or(1.0, |f| f.factor(eye, depth, vertex_specular));
-        (diffuse, specular, fog)
+            .map_or(1.0, |f| f.factor(eye, depth, vertex_specular))
     }
 
     /// SPEC 3.3: applies the enabled user clip planes; false when the point is dropped.

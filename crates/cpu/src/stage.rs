@@ -10,8 +10,10 @@
 //! [`VertexProcessing`] is tested against `process` on random and hostile vertices, on every
 //! level the machine has: it drops the same points and gives the same squares, bit for bit.
 
+use pointillist_core::color::Rgba;
 use pointillist_core::fog::FogDepth;
 use pointillist_core::fvf::{read_f32, read_u32};
+use pointillist_core::light::{AmbientEmissive, ColorSource, LightSetup};
 use pointillist_core::point::{
     PixelPlane, PixelRect, PointSetup, ScreenPoint, pretransformed_w, screen_distance,
     written_depth,
@@ -135,8 +137,15 @@ pub(crate) struct VertexProcessing {
     /// The size of every point, when it depends on nothing per vertex.
     size: Option<f32>,
     diffuse: Option<usize>,
-    /// The points are lit or fogged (SPEC 8.1, 9.1): their colours are core's `diffuse_and_fog`.
+    /// The points are lit or fogged (SPEC 8.1, 9.1): their colours are core's `diffuse_and_fog`,
+    /// or the lanes' `ambient_emissive` and core's `fog_factor`.
     colors: bool,
+    /// The draw is lit without an active light and with finite material colours: batches
+    /// light it on the lanes ([`VertexProcessing::ambient_emissive`]).
+    lit_on_lanes: Option<AmbientEmissive>,
+    /// The draw is fogged (SPEC 9.1).
+    fogged: bool,
+    specular: Option<usize>,
     /// The viewport's pixel rectangle as floats, the lower and upper bounds of the edges
     /// `left, top, right, bottom`: `[x0, y0, x0, y0]` and `[x1, y1, x1, y1]`.
     lower: [f32; 4],
@@ -202,6 +211,17 @@ impl VertexProcessing {
                 .then(|| points.size(points.point_size(), 0.0)),
             diffuse: layout.diffuse,
             colors: !points.uses_vertex_colors(),
+            lit_on_lanes: points
+                .lighting()
+                .and_then(LightSetup::without_lights)
+                .filter(|ae| {
+                    [ae.ambient.1, ae.emissive.1]
+                        .iter()
+                        .flatten()
+                        .all(|c| c.is_finite())
+                }),
+            fogged: points.fog().is_some(),
+            specular: layout.specular,
             lower: [r.x0, r.y0, r.x0, r.y0].map(|b| b as f32),
             upper: [r.x1, r.y1, r.x1, r.y1].map(|b| b as f32),
             projector: Projector::new(points),
@@ -541,6 +561,13 @@ impl VertexProcessing {
                 // The eye position's x, y, z, the depth, w and clip z / w of lit or fogged
                 // points.
                 let mut depths = [[0f32; MAX_LANES]; 6];
+                if let Some(ae) = &self.lit_on_lanes {
+                    let white = l.splat_u(pointillist_core::color::WHITE);
+                    let vertex_diffuse = self.diffuse.map_or(white, |o| field!(o as u32));
+                    let vertex_specular = self.specular.map_or(l.splat_u(0), |o| field!(o as u32));
+                    let lit = self.ambient_emissive(l, ae, vertex_diffuse, vertex_specular);
+                    l.store_u(&mut diffuse, lit);
+                }
                 if self.colors {
                     let unclamped = [eye[0], eye[1], eye[2], z, w, clip_z];
                     for (k, lanes) in unclamped.into_iter().enumerate() {
@@ -569,7 +596,11 @@ impl VertexProcessing {
                         let base = (index as usize + i) * self.stride;
                         let v = &vertices[base..base + self.stride];
                         let depth = FogDepth { z, w, clip_z };
-                        (diffuse[i], fog) = points.diffuse_and_fog(v, [e0, e1, e2], &depth);
+                        if self.lit_on_lanes.is_none() {
+                            (diffuse[i], fog) = points.diffuse_and_fog(v, [e0, e1, e2], &depth);
+                        } else if self.fogged {
+                            fog = points.fog_factor(v, [e0, e1, e2], &depth);
+                        }
                     }
                     let square = Square {
                         rect,
@@ -587,6 +618,34 @@ impl VertexProcessing {
             index += n;
         }
         index
+    }
+
+    /// [`AmbientEmissive::diffuse`] on lanes of vertex colours (SPEC 8.7 without lights): the
+    /// same products and sums per channel, saturated, then SPEC 1's rounding
+    /// ([`Lanes::quantize`]). The material colours are finite, so no lane is NaN.
+    #[inline(always)]
+    fn ambient_emissive<L: Lanes>(
+        &self,
+        l: L,
+        ae: &AmbientEmissive,
+        diffuse: L::U,
+        specular: L::U,
+    ) -> L::U {
+        // The lanes' channels are blue, green, red, alpha; `Rgba`'s red, green, blue, alpha.
+        const LANE: [usize; 4] = [2, 1, 0, 3];
+        let (vd, vs) = (l.unpack(diffuse), l.unpack(specular));
+        let pick = |(source, material): (ColorSource, Rgba), c: usize| match source {
+            ColorSource::Material => l.splat(material[c]),
+            ColorSource::Diffuse => vd[LANE[c]],
+            ColorSource::Specular => vs[LANE[c]],
+        };
+        let (zero, one) = (l.splat(0.0), l.splat(1.0));
+        let saturate = |v| l.min(l.max(v, zero), one);
+        let rgb = |c: usize| {
+            let lit = l.mul(pick(ae.ambient, c), l.splat(ae.global_ambient[c]));
+            saturate(l.add(lit, pick(ae.emissive, c)))
+        };
+        l.quantize([rgb(2), rgb(1), rgb(0), saturate(pick(ae.diffuse, 3))])
     }
 }
 
@@ -639,7 +698,7 @@ mod tests {
     #[test]
     fn fast_vertex_processing_matches_core_process() {
         let mut rng = Rng(0xC0FF_EE00_D15E_A5E5);
-        let (mut tested, mut survivors) = (0, 0);
+        let (mut tested, mut survivors, mut lit_on_lanes) = (0, 0, 0);
         for case in 0..600 {
             let profile = Caps::PROFILES[case % Caps::PROFILES.len()];
             let caps = Caps {
@@ -675,7 +734,15 @@ mod tests {
             let lit = case % 4 == 2;
             device.set_render_state(RenderState::LIGHTING, lit);
             if lit {
-                let color = |rng: &mut Rng| [0; 4].map(|_| rng.range(0.0, 1.2));
+                // Material colours past the unit interval, negative, huge and now and then
+                // infinite (core's stage then lights them, SPEC 8.7).
+                let color = |rng: &mut Rng| {
+                    [0; 4].map(|_| match rng.next() % 16 {
+                        0 => hostile(rng),
+                        1 => rng.range(-1.0, 0.0),
+                        _ => rng.range(0.0, 1.2),
+                    })
+                };
                 device.set_render_state(RenderState::AMBIENT, rng.next());
                 device.set_material(Material {
                     diffuse: color(&mut rng),
@@ -687,13 +754,15 @@ mod tests {
                 device.set_render_state(RenderState::COLORVERTEX, case % 3 == 0);
                 device.set_render_state(RenderState::AMBIENTMATERIALSOURCE, rng.next() % 3);
                 device.set_render_state(RenderState::DIFFUSEMATERIALSOURCE, rng.next() % 3);
+                device.set_render_state(RenderState::EMISSIVEMATERIALSOURCE, rng.next() % 3);
                 device.set_render_state(RenderState::SPECULARENABLE, case % 5 == 0);
                 if case % 8 == 2 {
+                    let unit = |rng: &mut Rng| [0; 4].map(|_| rng.range(0.0, 1.2));
                     let light = Light {
                         light_type: [LightType::Directional, LightType::Point][case / 8 % 2],
-                        diffuse: color(&mut rng),
-                        specular: color(&mut rng),
-                        ambient: color(&mut rng),
+                        diffuse: unit(&mut rng),
+                        specular: unit(&mut rng),
+                        ambient: unit(&mut rng),
                         position: [rng.range(-4.0, 4.0), rng.range(-4.0, 4.0), -3.0],
                         direction: [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 1.0],
                         range: 40.0,
@@ -782,6 +851,7 @@ mod tests {
             };
             let points = PointSetup::new(device.state(), fvf);
             let fast = VertexProcessing::new(&points).expect("no user clip planes");
+            lit_on_lanes += usize::from(fast.lit_on_lanes.is_some());
             assert!(SquareStage::new(&points, None).fast.is_some());
             let mut vertices = Vec::new();
             for _ in 0..200 {
@@ -874,5 +944,7 @@ mod tests {
             survivors * 8 > tested,
             "{survivors} of {tested} points survived"
         );
+        // Lit draws without a light go through the lanes' lighting.
+        assert!(lit_on_lanes > 20, "{lit_on_lanes} draws lit on lanes");
     }
 }
