@@ -723,7 +723,7 @@ mod tests {
                 let s = s.unwrap();
                 let ae = s.without_lights().unwrap();
                 for byte in (0..=255u32).step_by(17) {
-                    let d = byte * 0x0101_0101 ^ 0x00FF_0F00;
+                    let d = (byte * 0x0101_0101) ^ 0x00FF_0F00;
                     let sp = byte.rotate_left(8) | 0x0300_00F0;
                     let want = s.light_diffuse([1.0, 2.0, 3.0], [0.0, 0.0, 1.0], d, sp);
                     assert_eq!(ae.diffuse(d, sp), want, "{material:?} {states:?} {d:08x}");
