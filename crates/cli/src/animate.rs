@@ -1,10 +1,10 @@
 //! `pointillist animate SCENE -o OUT`: the arguments, the progress bar and the signal handler's
-//! hold on ffmpeg around [`pointillist_animation::animate`], which renders the frames and
+//! hold on ffmpeg around [`pointillist::animation::animate`], which renders the frames and
 //! writes the GIF, APNG, PNG sequence or MP4 (its contract is in that crate's documentation).
 //! The progress bar with an ETA is drawn on standard error when it is a terminal.
 
 use indicatif::{ProgressBar, ProgressStyle};
-use pointillist_animation::{Format, Observer, Request};
+use pointillist::animation::{Format, Observer, Request};
 
 use crate::interrupt::ChildGuard;
 use crate::{AnimateArgs, AnimationFormat};
@@ -64,7 +64,7 @@ pub fn run(args: &AnimateArgs) -> Result<(), String> {
         behaviours: args.behaviours.clone(),
     };
     let mut terminal = Terminal { progress: None };
-    let result = pointillist_animation::animate(
+    let result = pointillist::animation::animate(
         &request,
         || {
             crate::backend::create(args.backend)

@@ -1,4 +1,5 @@
-//! The backend a command draws with, chosen by `--backend cpu|gpu`.
+//! The backend a command draws with, chosen by `--backend cpu|gpu`: the front door's
+//! [`pointillist::backend`], its one-line reasons prefixed with the argument.
 //!
 //! [`create`] returns a [`CliBackend`], a `Backend` over either the CPU backend or the GPU
 //! backend (wgpu on Vulkan, Metal, D3D12 or OpenGL, whichever adapter it finds), so a command's
@@ -9,33 +10,31 @@
 use std::env;
 use std::path::Path;
 
-use pointillist_core::Backend;
-use pointillist_cpu::CpuBackend;
-use pointillist_gpu::{AdapterSummary, GpuBackend, GpuContext, GpuError};
+use pointillist_gpu::{AdapterSummary, GpuContext};
 
 use crate::BackendKind;
 
 /// The backend a command draws with (core's `Backend for Box<B>`).
-pub type CliBackend = Box<dyn Backend>;
+pub type CliBackend = pointillist::AnyBackend;
+
+impl From<BackendKind> for pointillist::BackendKind {
+    fn from(kind: BackendKind) -> pointillist::BackendKind {
+        match kind {
+            BackendKind::Cpu => pointillist::BackendKind::Cpu,
+            BackendKind::Gpu => pointillist::BackendKind::Gpu,
+        }
+    }
+}
 
 /// The GPU context, or the one-line reason there is none (with how to get a driver when no
 /// adapter was found).
 pub fn gpu_context() -> Result<std::sync::Arc<GpuContext>, String> {
-    GpuContext::shared().map_err(|e| match e {
-        GpuError::NoAdapter(_) => format!(
-            "--backend gpu: {e} (a Vulkan, Metal, D3D12 or OpenGL driver is needed; on Debian \
-             `apt-get install mesa-vulkan-drivers libvulkan1` gives a software one)"
-        ),
-        _ => format!("--backend gpu: {e}"),
-    })
+    pointillist::backend::gpu_context().map_err(|e| format!("--backend gpu: {e}"))
 }
 
 /// A backend of kind `kind`.
 pub fn create(kind: BackendKind) -> Result<CliBackend, String> {
-    Ok(match kind {
-        BackendKind::Cpu => Box::new(CpuBackend::new()),
-        BackendKind::Gpu => Box::new(GpuBackend::with_context(gpu_context()?)),
-    })
+    pointillist::backend::create(kind.into()).map_err(|e| format!("--backend {}: {e}", kind.name()))
 }
 
 /// The backend of a command run without `--backend`, and the line that says so (for standard

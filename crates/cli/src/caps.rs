@@ -32,11 +32,7 @@ pub fn run(args: &CapsArgs) -> Result<(), String> {
             Caps::default(),
         ),
     };
-    let name = match args.backend {
-        BackendKind::Cpu => "cpu",
-        BackendKind::Gpu => "gpu",
-    };
-    print_text(&report(name, &source, &caps));
+    print_text(&report(args.backend.name(), &source, &caps));
     Ok(())
 }
 

@@ -497,12 +497,9 @@ pub enum BackendKind {
 }
 
 impl BackendKind {
-    /// The name `--backend` takes.
+    /// The name `--backend` takes (the front door's name of the kind).
     pub fn name(self) -> &'static str {
-        match self {
-            BackendKind::Cpu => "cpu",
-            BackendKind::Gpu => "gpu",
-        }
+        pointillist::BackendKind::from(self).name()
     }
 
     /// For commands that draw on the CPU only: fails with the one-line reason for the GPU.

@@ -3,49 +3,31 @@
 
 use std::path::Path;
 
-use pointillist_core::{Device, DeviceDesc};
+use pointillist::frame::{Frame, FrameRequest};
 use pointillist_image::output::Destination;
 
 use crate::{RenderArgs, backend};
 
-/// Renders `args.scene` to `args.output`. Device notices (states that have no effect on points)
-/// are printed as `warning: SCENE: ...` on standard error once the image is written; on failure
-/// the one-line reason is returned and an existing output file is left as it was.
+/// Renders `args.scene` to `args.output` through [`pointillist::frame::render`]. Device notices
+/// (states that have no effect on points) are printed as `warning: SCENE: ...` on standard error
+/// once the image is written; on failure the one-line reason is returned and an existing output
+/// file is left as it was.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
     let scene = pointillist_scene::load(&args.scene).map_err(|e| e.to_string())?;
     let dest = check_output(&args.output, &scene.inputs)?;
     let scene_name = args.scene.display();
-    let desc = DeviceDesc {
-        behaviours: scene.behaviours.with(&args.behaviours),
-        ..scene.device_desc()
-    };
     let backend =
         pointillist_scene::work::Limited::new(backend::create(args.backend)?, args.max_pixels);
-    let mut device = Device::new(backend, desc)
-        .map_err(|e| format!("{scene_name}: cannot create the device: {e}"))?;
-    let mut particles = None;
-    if scene.is_animated() || args.frame.is_some() {
-        let frame = args.frame.unwrap_or(0);
-        let frames = scene.animation.frames;
-        if frame >= frames {
-            return Err(format!(
-                "{scene_name}: --frame {frame} is outside 0..={} ([animation] frames = {frames})",
-                frames - 1
-            ));
-        }
-        let mut system = scene.particle_system().map_err(|e| e.to_string())?;
-        let mut buffers = pointillist_particles::DrawBuffers::new();
-        scene
-            .render_frame(&mut device, &mut system, &mut buffers, frame)
-            .map_err(|e| e.to_string())?;
-        particles = Some((frame, system.len()));
-    } else {
-        scene.replay(&mut device).map_err(|e| e.to_string())?;
-    }
-    let notices = device.take_notices();
-    let target = device
-        .into_target()
-        .map_err(|e| format!("{scene_name}: cannot read the render target: {e}"))?;
+    let request = FrameRequest {
+        behaviours: &args.behaviours,
+        frame: args.frame,
+        frame_arg: "--frame",
+    };
+    let Frame {
+        target,
+        notices,
+        particles,
+    } = pointillist::frame::render(&scene, backend, &request, || Ok(()))?;
     let (width, height) = (target.width, target.height);
     dest.write_png(width, height, &target.into_rgba8(), args.compression.into())
         .map_err(|e| e.to_string())?;

@@ -489,8 +489,8 @@ fn readme_block(lang: &str) -> String {
 }
 
 #[test]
-fn the_readme_library_example_is_the_cpu_crates_doc_test() {
-    let lib = fs::read_to_string(repo_root().join("crates/cpu/src/lib.rs")).unwrap();
+fn the_readme_library_example_is_the_front_door_crates_doc_test() {
+    let lib = fs::read_to_string(repo_root().join("crates/pointillist/src/lib.rs")).unwrap();
     let docs: Vec<&str> = lib
         .lines()
         .take_while(|l| l.starts_with("//!"))

@@ -112,11 +112,8 @@ impl PyPlot {
             Given::Default => "cpu".to_owned(),
             Given::Value(b) => crate::backend::name(&b)?,
         };
-        if backend != "cpu" && backend != "gpu" {
-            return Err(PyValueError::new_err(format!(
-                "unknown backend `{backend}` (expected \"cpu\" or \"gpu\")"
-            )));
-        }
+        // Checked here, before any array is read; drawn by name in `render`.
+        crate::backend::kind(&backend)?;
         let texture = texture.filter(|t| !t.is_none());
         let (texels, texture) = match texture {
             None => (None, None),

@@ -1,11 +1,12 @@
 //! Scene files from Python: `render_scene` draws what `pointillist render` draws, `animate`
-//! writes what `pointillist animate` writes (through the same `pointillist-animation`).
+//! writes what `pointillist animate` writes (through the same front door, `pointillist::frame`
+//! and `pointillist::animation`).
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use pointillist_animation::{Observer, Request};
-use pointillist_core::device::{Device, DeviceDesc};
+use pointillist::animation::{Observer, Request};
+use pointillist::frame::FrameRequest;
 use pointillist_scene::work;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
@@ -46,42 +47,19 @@ pub fn render_scene<'py>(
     )?;
     let (rgba, width, height) = crate::interrupt::detach(py, || -> Result<_, String> {
         let scene = pointillist_scene::load(&path).map_err(|e| e.to_string())?;
-        let name = path.display();
         // The scene's [behaviour] with the argument's over it, as `pointillist render` merges
         // `--behaviour`.
-        let desc = DeviceDesc {
-            behaviours: scene.behaviours.with(&settings),
-            ..scene.device_desc()
+        let request = FrameRequest {
+            behaviours: &settings,
+            frame,
+            frame_arg: "frame",
         };
-        let mut device = Device::new(backend, desc)
-            .map_err(|e| format!("{name}: cannot create the device: {e}"))?;
-        if scene.is_animated() || frame.is_some() {
-            let frame = frame.unwrap_or(0);
-            let frames = scene.animation.frames;
-            if frame >= frames {
-                return Err(format!(
-                    "{name}: frame {frame} is outside 0..={} ([animation] frames = {frames})",
-                    frames - 1
-                ));
-            }
-            let mut system = scene.particle_system().map_err(|e| e.to_string())?;
-            let mut buffers = pointillist_particles::DrawBuffers::new();
-            // The warm-up answers Ctrl-C as the draws do.
-            let mut every = crate::interrupt::Every::new();
-            scene
-                .render_frame_checked(&mut device, &mut system, &mut buffers, frame, || {
-                    every.check()
-                })
-                .map_err(|e| e.to_string())?;
-        } else {
-            scene.replay(&mut device).map_err(|e| e.to_string())?;
-        }
+        // The warm-up answers Ctrl-C as the draws do.
+        let mut every = crate::interrupt::Every::new();
+        let drawn = pointillist::frame::render(&scene, backend, &request, || every.check())?;
         // Converted where it lies, as `pointillist render` does: no copy of colour and depth.
-        let target = device
-            .into_target()
-            .map_err(|e| format!("{name}: cannot read the render target: {e}"))?;
-        let (width, height) = (target.width, target.height);
-        Ok((target.into_rgba8(), width, height))
+        let (width, height) = (drawn.target.width, drawn.target.height);
+        Ok((drawn.target.into_rgba8(), width, height))
     })?
     .map_err(SceneError::new_err)?;
     crate::image_words(py, rgba.into_words(), width, height)
@@ -203,7 +181,7 @@ pub fn animate(
     };
     let mut session = Session::new();
     let result = crate::interrupt::detach(py, || {
-        pointillist_animation::animate(&request, || Ok(backend), &mut session)
+        pointillist::animation::animate(&request, || Ok(backend), &mut session)
     });
     for text in &session.warnings {
         PyErr::warn(

@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! pointillist animate scenes/snow.toml -o frames/%04d.png --frames 20
-//! cargo run --release -p pointillist-animation --example gif_quantisers -- 5 frames/*.png
+//! cargo run --release -p pointillist --example gif_quantisers -- 5 frames/*.png
 //! ```
 //!
 //! For each quantiser: the median time to quantise one frame (opaque RGB, 256 colours) and to
@@ -104,13 +104,13 @@ fn main() {
         .map(|path| {
             let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
             let t =
-                pointillist_image::png::load_png(&bytes).unwrap_or_else(|e| panic!("{path}: {e}"));
+                pointillist::image::png::load_png(&bytes).unwrap_or_else(|e| panic!("{path}: {e}"));
             let level = &t.levels()[0];
             let rgba = level
                 .texels
                 .iter()
                 .flat_map(|&c| {
-                    let [r, g, b, _] = pointillist_core::color::argb_to_rgba8(c);
+                    let [r, g, b, _] = pointillist::color::argb_to_rgba8(c);
                     [r, g, b, 255]
                 })
                 .collect();

@@ -3,10 +3,10 @@
 
 use std::path::{Path, PathBuf};
 
-use pointillist_animation::{Compression, Observer, Request, animate};
-use pointillist_cpu::CpuBackend;
-use pointillist_image::png::write_png_rgba8;
-use pointillist_particles::DrawBuffers;
+use pointillist::animation::{Compression, Observer, Request, animate};
+use pointillist::cpu::CpuBackend;
+use pointillist::image::png::write_png_rgba8;
+use pointillist::particles::DrawBuffers;
 
 struct Quiet {
     done: Vec<u32>,
@@ -32,8 +32,8 @@ fn scene() -> PathBuf {
 
 /// Frame k of the scene drawn alone, as RGBA8.
 fn sequential_frames(frames: u32) -> Vec<Vec<u8>> {
-    let scene = pointillist_scene::load(&scene()).unwrap();
-    let mut device = pointillist_core::Device::new(CpuBackend::new(), scene.device_desc()).unwrap();
+    let scene = pointillist::scene::load(&scene()).unwrap();
+    let mut device = pointillist::Device::new(CpuBackend::new(), scene.device_desc()).unwrap();
     let mut system = scene.particle_system().unwrap();
     let mut buffers = DrawBuffers::new();
     (0..frames)
@@ -78,7 +78,7 @@ fn pipelined_frames_are_the_sequential_frames_byte_for_byte() {
     let (r, done) = run(&dir.join("f_%02d.png"), frames, None);
     r.unwrap();
     assert_eq!(done, (0..frames).collect::<Vec<_>>());
-    let scene = pointillist_scene::load(&scene()).unwrap();
+    let scene = pointillist::scene::load(&scene()).unwrap();
     let (w, h) = (scene.target.width, scene.target.height);
     for (k, rgba) in expected.iter().enumerate() {
         let mut png = Vec::new();

@@ -8,7 +8,7 @@ use std::process::{Child, ChildStdin, Command, Stdio};
 use pointillist_image::output::{Destination, PendingFile, commit_all};
 use pointillist_image::png::Compression;
 
-use crate::{Format, Observer};
+use crate::animation::{Format, Observer};
 
 /// An APNG frame delay of `1 / fps` seconds as `num / den`, both at most 65535: the closest
 /// such fraction (its continued fraction's best approximation), exact for whole and most
