@@ -91,16 +91,18 @@ def points(
 
     It is called with arrays, ``points(x, y, ...)``, or with a table and the names of its
     columns, ``points(data, x="col", y="col", size=..., color=..., z=...)``: ``data`` a pandas
-    DataFrame or a dict of 1-D arrays, and any of ``size``, ``color`` and ``z`` a column name
-    (a string) or, as with arrays, a constant or an array. Columns of numpy dtypes are read as
-    the arrays they hold, in place; a null in a column of a nullable (extension) dtype raises
+    DataFrame, a dict of 1-D arrays or an Arrow table (anything with ``__arrow_c_stream__`` or
+    ``__arrow_c_array__``: a pyarrow Table, RecordBatch or RecordBatchReader, a polars
+    DataFrame, a DuckDB result), and any of ``size``, ``color`` and ``z`` a column name (a
+    string) or, as with arrays, a constant or an array (with an Arrow table, a constant only).
+    Columns of numpy dtypes, and Arrow float32, float64 and uint32 columns, are read in place;
+    an Arrow table's record batches are drawn one after another, in order. A null raises
     ``ValueError`` naming the column and the first null row (positions, sizes, colours and
-    depths alike: a NaN size or depth is refused the same way). Arrow objects
-    (``__arrow_c_stream__``: pyarrow, polars) are not read yet.
+    depths alike: a NaN size or depth is refused the same way).
 
     Parameters
     ----------
-    data : pandas.DataFrame, dict of arrays, or None
+    data : pandas.DataFrame, dict of arrays, Arrow table, or None
         The table whose columns ``x``, ``y`` (and ``size``, ``color``, ``z`` where they are
         strings) name.
     x, y : 1-D arrays of real numbers, or column names
@@ -158,7 +160,9 @@ def points(
 
     The GIL is released while the points are drawn.
     """
-    x, y, size, color, z, x_name, y_name = _columns(data, x, y, size, color, z)
+    arrow = _is_arrow(data) and any(isinstance(v, str) for v in (x, y, size, color, z))
+    if not arrow:
+        x, y, size, color, z, x_name, y_name = _columns(data, x, y, size, color, z)
     plot = Plot(
         width,
         height,
@@ -170,8 +174,38 @@ def points(
         behaviour=behaviour,
         backend=backend,
     )
-    image = _native.points(plot, x, y, size=size, color=color, z=z)
+    if arrow:
+        x_name, y_name, z_name = _arrow_names(x, y, z)
+        image = _native.points_arrow(plot, data, x_name, y_name, size=_any(size),
+                                     color=_any(color), z=z_name)
+    else:
+        image = _native.points(plot, _any(x), _any(y), size=size, color=color, z=z)
     return image._located(plot, x_name, y_name)
+
+
+def _any(value: Any) -> Any:
+    """``value``, whose type the compiled function checks."""
+    return value
+
+
+def _is_arrow(data: Any) -> bool:
+    """Whether ``data`` is read through the Arrow PyCapsule interface: it has
+    ``__arrow_c_stream__`` or ``__arrow_c_array__`` and is not a pandas frame (read as the
+    numpy arrays it holds) or a dict."""
+    if data is None or _is_pandas(data) or isinstance(data, Mapping):
+        return False
+    kind = type(data)
+    return hasattr(kind, "__arrow_c_stream__") or hasattr(kind, "__arrow_c_array__")
+
+
+def _arrow_names(x: Any, y: Any, z: Any) -> Tuple[str, str, Optional[str]]:
+    """With an Arrow table, ``x`` and ``y`` (and ``z`` when given) must name columns."""
+    for arg, value in (("x", x), ("y", y), ("z", z)):
+        if not isinstance(value, str) and (arg != "z" or value is not None):
+            raise TypeError(
+                f"{arg} must be a column name with data; got {type(value).__name__}"
+            )
+    return x, y, z
 
 
 def _columns(data: Any, x: Any, y: Any, size: Any, color: Any, z: Any) -> tuple:
@@ -190,8 +224,8 @@ def _columns(data: Any, x: Any, y: Any, size: Any, color: Any, z: Any) -> tuple:
         raise TypeError(f"{_first_name(names)} names a column, but no data was given")
     if not (_is_pandas(data) or isinstance(data, Mapping)):
         raise TypeError(
-            "data must be a pandas DataFrame or a dict of arrays (Arrow objects are not read "
-            f"yet); got {type(data).__name__}"
+            "data must be a pandas DataFrame, a dict of arrays or an Arrow table (an object "
+            f"with __arrow_c_stream__ or __arrow_c_array__); got {type(data).__name__}"
         )
     for arg in ("x", "y"):
         if not isinstance(names[arg], str):
