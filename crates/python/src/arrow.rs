@@ -22,6 +22,7 @@ use arrow_array::{
 };
 use arrow_data::ArrayData;
 use arrow_schema::{ArrowError, DataType};
+use numpy::{PyArray1, PyArrayMethods};
 use pointillist_plot::{Colors, Column, PlotError, Points, Sizes};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -280,13 +281,21 @@ enum Either<T> {
     Constant(T),
 }
 
+/// `color`: a column, a constant, or an array of one colour a row of the table (colours
+/// computed from a column's values: `cmap`, `color_key`).
+enum ColorSpec<'py> {
+    Named(Named),
+    Constant(u32),
+    Array(ColorArg<'py>),
+}
+
 /// What each argument of a draw is: the columns it names, or its constant.
-struct Spec {
+struct Spec<'py> {
     x: Named,
     y: Named,
     z: Option<Named>,
     size: Either<f32>,
-    color: Either<u32>,
+    color: ColorSpec<'py>,
 }
 
 /// The columns of one chunk, held while it is drawn.
@@ -298,17 +307,18 @@ struct Chunk {
     color: Option<Argb>,
 }
 
-impl Spec {
+impl<'py> Spec<'py> {
     /// The arguments of `points` against the table's column `names`: `x`, `y` (and `z` when
-    /// given) name columns; `size` and `color` name columns or are constants.
+    /// given) name columns; `size` names a column or is a constant; `color` names a column or
+    /// is a constant or an array of a colour a row.
     fn new(
         names: &[String],
-        x: &Bound<'_, PyString>,
-        y: &Bound<'_, PyString>,
-        z: Option<&Bound<'_, PyString>>,
-        size: &Bound<'_, PyAny>,
-        color: &Bound<'_, PyAny>,
-    ) -> PyResult<Spec> {
+        x: &Bound<'py, PyString>,
+        y: &Bound<'py, PyString>,
+        z: Option<&Bound<'py, PyString>>,
+        size: &Bound<'py, PyAny>,
+        color: &Bound<'py, PyAny>,
+    ) -> PyResult<Spec<'py>> {
         let size = match size.cast::<PyString>() {
             Ok(name) => Either::Named(Named::find("size", name, names)?),
             Err(_) => match arrays::sizes(size)? {
@@ -317,10 +327,10 @@ impl Spec {
             },
         };
         let color = match color.cast::<PyString>() {
-            Ok(name) => Either::Named(Named::find("color", name, names)?),
+            Ok(name) => ColorSpec::Named(Named::find("color", name, names)?),
             Err(_) => match arrays::colors(color)? {
-                ColorArg::Constant(c) => Either::Constant(c),
-                _ => return Err(not_an_array("color")),
+                ColorArg::Constant(c) => ColorSpec::Constant(c),
+                array => ColorSpec::Array(array),
             },
         };
         Ok(Spec {
@@ -347,15 +357,38 @@ impl Spec {
                 Either::Constant(_) => None,
             },
             color: match &self.color {
-                Either::Named(n) => Some(n.colors(columns, offset)?),
-                Either::Constant(_) => None,
+                ColorSpec::Named(n) => Some(n.colors(columns, offset)?),
+                _ => None,
             },
         })
     }
 
-    /// The points of `chunk` (read by [`Spec::read`]).
-    fn points<'a>(&self, chunk: &'a Chunk) -> Points<'a> {
-        Points {
+    /// The points of `chunk` (read by [`Spec::read`]), whose first row is row `offset` of
+    /// the table: a colour array's rows `offset..` with them.
+    fn points<'a>(&'a self, chunk: &'a Chunk, offset: usize) -> PyResult<Points<'a>> {
+        let rows = chunk.x.column().len();
+        let color = match (&self.color, &chunk.color) {
+            (_, Some(c)) => c.colors(),
+            (ColorSpec::Constant(c), None) => Colors::Constant(*c),
+            (ColorSpec::Array(a), None) => {
+                let colors = a.colors();
+                let len = colors_len(&colors);
+                if offset + rows > len {
+                    return Err(PyValueError::new_err(format!(
+                        "color has {len} rows but data has more ({} at least)",
+                        offset + rows
+                    )));
+                }
+                let range = offset..offset + rows;
+                match colors {
+                    Colors::Argb(c) => Colors::Argb(&c[range]),
+                    Colors::Rgba(c) => Colors::Rgba(&c[range]),
+                    c => c,
+                }
+            }
+            (ColorSpec::Named(_), None) => Colors::Argb(&[]),
+        };
+        Ok(Points {
             x: chunk.x.column(),
             y: chunk.y.column(),
             z: chunk.z.as_ref().map(Numbers::column),
@@ -364,12 +397,21 @@ impl Spec {
                 (Either::Constant(s), None) => Sizes::Constant(*s),
                 (Either::Named(_), None) => Sizes::PerPoint(Column::F32(&[])),
             },
-            color: match (&self.color, &chunk.color) {
-                (_, Some(c)) => c.colors(),
-                (Either::Constant(c), None) => Colors::Constant(*c),
-                (Either::Named(_), None) => Colors::Argb(&[]),
-            },
+            color,
+        })
+    }
+
+    /// Refuses a colour array of more rows than the table's `rows`.
+    fn check_rows(&self, rows: usize) -> PyResult<()> {
+        if let ColorSpec::Array(a) = &self.color {
+            let len = colors_len(&a.colors());
+            if len != rows {
+                return Err(PyValueError::new_err(format!(
+                    "color has {len} rows but data has {rows}"
+                )));
+            }
         }
+        Ok(())
     }
 
     /// No points, laid out as this draw's: its layout and constants without rows.
@@ -383,10 +425,19 @@ impl Spec {
                 Either::Named(_) => Sizes::PerPoint(Column::F32(&[])),
             },
             color: match self.color {
-                Either::Constant(c) => Colors::Constant(c),
-                Either::Named(_) => Colors::Argb(&[]),
+                ColorSpec::Constant(c) => Colors::Constant(c),
+                _ => Colors::Argb(&[]),
             },
         }
+    }
+}
+
+/// The rows of an array of colours.
+fn colors_len(colors: &Colors<'_>) -> usize {
+    match colors {
+        Colors::Argb(c) => c.len(),
+        Colors::Rgba(c) => c.len(),
+        Colors::Constant(_) => 0,
     }
 }
 
@@ -410,6 +461,14 @@ fn chunk_error(offset: usize) -> impl Fn(PlotError) -> PyErr {
     }
 }
 
+/// The counts of a draw whose pixels are not its counts.
+fn not_counted() -> PyErr {
+    PyValueError::new_err(
+        "only a draw of one colour is shaded from its counts: a constant color, blend \"add\", \
+         \"max\" or \"replace\", no z, no texture",
+    )
+}
+
 /// The image being drawn, chunk by chunk.
 enum Target {
     /// No chunk yet.
@@ -427,12 +486,12 @@ impl Target {
         py: Python<'_>,
         spec: &PyPlot,
         points: &Points<'_>,
-        offset: usize,
+        (offset, counts): (usize, bool),
     ) -> PyResult<()> {
         let plot = &spec.plot;
         let error = chunk_error(offset);
         if let Target::None = self {
-            if spec.backend == "cpu" {
+            if spec.backend == "cpu" || counts {
                 let mut sum = vec![0u8; plot.width as usize * plot.height as usize];
                 if py
                     .detach(|| plot.add_counts_of(points, &mut sum))
@@ -441,6 +500,9 @@ impl Target {
                     *self = Target::Counts(sum);
                     return Ok(());
                 }
+            }
+            if counts {
+                return Err(not_counted());
             }
             let backend = backend::backend(&spec.backend)?;
             let size = (plot.width, plot.height);
@@ -460,6 +522,30 @@ impl Target {
             Target::None => {}
         }
         Ok(())
+    }
+
+    /// The counts of every chunk drawn, a `(height, width)` uint8 array (saturating at 255):
+    /// the draw must be counted.
+    fn counts<'py>(
+        self,
+        py: Python<'py>,
+        spec: &PyPlot,
+        layout: &Points<'_>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let plot = &spec.plot;
+        let shape = (plot.height as usize, plot.width as usize);
+        let sum = match self {
+            Target::Counts(sum) => sum,
+            Target::None => {
+                let mut sum = vec![0u8; shape.0 * shape.1];
+                if !plot.add_counts_of(layout, &mut sum).map_err(plot_error)? {
+                    return Err(not_counted());
+                }
+                sum
+            }
+            Target::Device(_) => return Err(not_counted()),
+        };
+        Ok(PyArray1::from_vec(py, sum).reshape(shape)?.into_any())
     }
 
     /// The image of every chunk drawn.
@@ -492,11 +578,14 @@ impl Target {
 }
 
 /// Draws the rows of an Arrow table (`__arrow_c_stream__` or `__arrow_c_array__`) with
-/// `plot`: `x`, `y` and `z` name its columns, `size` and `color` name columns or are
-/// constants. The record batches are drawn one after another, in order: the pixels of one
-/// draw of all the rows, as `points` draws the same columns from numpy.
+/// `plot`: `x`, `y` and `z` name its columns, `size` names a column or is a constant, `color`
+/// names a column or is a constant or an array of a colour a row. The record batches are
+/// drawn one after another, in order: the pixels of one draw of all the rows, as `points`
+/// draws the same columns from numpy. With `counts`, the `(height, width)` uint8 counts of a
+/// draw of one colour instead (as `_counts`).
 #[pyfunction]
-#[pyo3(signature = (plot, data, x, y, *, size, color, z=None))]
+#[pyo3(signature = (plot, data, x, y, *, size, color, z=None, counts=false))]
+#[allow(clippy::too_many_arguments)] // the columns of `points`, and what to return
 pub fn points_arrow<'py>(
     plot: &Bound<'py, PyPlot>,
     data: &Bound<'py, PyAny>,
@@ -505,6 +594,7 @@ pub fn points_arrow<'py>(
     size: &Bound<'py, PyAny>,
     color: &Bound<'py, PyAny>,
     z: Option<&Bound<'py, PyString>>,
+    counts: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let py = plot.py();
     let plot = plot.get();
@@ -515,10 +605,14 @@ pub fn points_arrow<'py>(
     for columns in chunks {
         py.check_signals()?;
         let chunk = spec.read(&columns.map_err(arrow_error)?, offset)?;
-        let points = spec.points(&chunk);
+        let points = spec.points(&chunk, offset)?;
         let rows = points.count().map_err(plot_error)?;
-        target.draw(py, plot, &points, offset)?;
+        target.draw(py, plot, &points, (offset, counts))?;
         offset += rows;
+    }
+    spec.check_rows(offset)?;
+    if counts {
+        return target.counts(py, plot, &spec.empty());
     }
     target.finish(py, plot, &spec.empty())
 }

@@ -131,11 +131,13 @@ def points_arrow(
     y: str,
     *,
     size: Union[float, str],
-    color: Union[int, str],
+    color: Union[int, str, _Column],
     z: Optional[str] = None,
-) -> Image:
+    counts: bool = False,
+) -> Any:
     """The rows of an Arrow table (``__arrow_c_stream__`` or ``__arrow_c_array__``), by column
-    names, drawn record batch by record batch as ``plot`` says (``pointillist.points``)."""
+    names, drawn record batch by record batch as ``plot`` says (``pointillist.points``): the
+    Image, or with ``counts`` the ``(height, width)`` uint8 counts of a draw of one colour."""
 
 def render_scene(
     path: Union[str, os.PathLike[str]],
