@@ -335,3 +335,22 @@ def test_repeated_calls_recompute(client):
     assert np.array_equal(a, b)
     counted = [t for t in ts.data if str(t["key"]).startswith("_count-")]
     assert len(counted) == 6
+
+
+@pytest.mark.parametrize("persist", [False, True])
+def test_counts_shaded_with_a_colormap(client, persist):
+    # The partitions' counts, added, shaded as pointillist.points shades the counts of all
+    # the rows at once (item 3: datashader's tf.shade on pointillist's counts).
+    pdf, df = frame(40_000, 6, 5)
+    df = df.persist() if persist else df
+    kw = dict(width=40, height=30, x_range=(0, 1), y_range=(0, 1), clear=0xFF304050)
+    for shade in (dict(cmap="fire"), dict(cmap=["#000000", "#FFFFFF"], how="linear", vmax=50),
+                  dict(cmap="viridis", how="log", size="s")):
+        got, want = both(pdf, df, client, **shade, **kw)
+        assert np.array_equal(got, want), shade
+        assert len(np.unique(want.reshape(-1, 4), axis=0)) > 20
+        assert (got.x_name, got.extent) == ("x", (0.0, 1.0, 0.0, 1.0))
+    with pytest.raises(TypeError, match="colour from a column's values"):
+        pointillist.dask.points(df, "x", "y", color="c", cmap="fire", client=client, **kw)
+    with pytest.raises(ValueError, match="only a draw of one colour is shaded"):
+        pointillist.dask.points(df, "x", "y", blend="alpha", cmap="fire", client=client, **kw)

@@ -54,7 +54,7 @@ from typing import TYPE_CHECKING, Any, Callable, Optional, Sequence, Tuple, Unio
 import numpy
 import numpy.typing as npt
 
-from . import _column, _native
+from . import _column, _native, _shade
 from ._image import Image
 from ._native import Plot
 
@@ -84,6 +84,10 @@ def points(
     split_every: int = 8,
     client: Any = None,
     behaviour: Behaviour = None,
+    cmap: _shade.Cmap = None,
+    how: Optional[str] = None,
+    vmin: Optional[float] = None,
+    vmax: Optional[float] = None,
 ) -> Image:
     """Draw the rows of Dask DataFrame ``df`` on a ``dask.distributed`` cluster, exactly.
 
@@ -114,6 +118,10 @@ def points(
     client : dask.distributed.Client or None
         The client to compute on; by default the active one (``distributed.default_client``),
         or Dask's local scheduler when there is none.
+    cmap, how, vmin, vmax
+        With one ``color`` (a constant) and a counted draw: the counts of all the partitions,
+        added, shaded as :func:`pointillist.points` shades them (datashader's ``tf.shade``).
+        Colour from a column's values is not drawn on Dask yet (a ``TypeError``).
 
     Raises
     ------
@@ -162,6 +170,12 @@ def points(
             0 if constants["color"] is None else constants["color"],
         ),
     )
+    shading = any(v is not None for v in (cmap, how, vmin, vmax))
+    if shading and constants["color"] is None:
+        raise TypeError(
+            "pointillist.dask.points shades the counts of one colour; colour from a column's "
+            "values (cmap with color a column) is not drawn on Dask yet"
+        )
     client = _client(client)
     # Fresh keys every call (pure=False): a call is never answered by the result of an
     # earlier one that the scheduler has not yet released.
@@ -173,6 +187,11 @@ def points(
         and constants["color"] is not None
         and _native._counts(plot, layout) is not None
     )
+    if shading and not counted:
+        raise ValueError(
+            'only a draw of one colour is shaded from its counts: a constant color, blend '
+            '"add", "max" or "replace", no z, no texture'
+        )
     commuting = counted or (plot.commutes and z is None)
     held = _held(df, client) if commuting else None
     if counted:
@@ -188,6 +207,9 @@ def points(
             counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
             total = _compute(_reduce(task, counts, _add_counts, split_every), client)
         total = numpy.asarray(total)
+        if shading:
+            shaded = _shade.shade_counts(total, plot.clear, cmap, how, vmin, vmax)
+            return shaded.view(Image)._located(plot, x, y)
         counted_image = _native._from_counts(plot, total, layout).view(Image)
         return counted_image._located(plot, x, y)
     if plot.commutes and z is None:
