@@ -275,7 +275,7 @@ impl Argb {
     }
 }
 
-/// `size` or `color`: a column or a constant.
+/// `size`: a column or a constant.
 enum Either<T> {
     Named(Named),
     Constant(T),
