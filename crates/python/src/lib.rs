@@ -7,6 +7,7 @@
 //! turns Python arguments into their types and their errors into exceptions.
 
 mod arrays;
+mod arrow;
 mod backend;
 mod behaviour;
 mod device;
@@ -509,6 +510,7 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<device::PyDevice>()?;
     m.add_class::<PyPlot>()?;
     m.add_function(wrap_pyfunction!(points, m)?)?;
+    m.add_function(wrap_pyfunction!(arrow::points_arrow, m)?)?;
     m.add_function(wrap_pyfunction!(scene::render_scene, m)?)?;
     m.add_function(wrap_pyfunction!(scene::animate, m)?)?;
     m.add_function(wrap_pyfunction!(lanes, m)?)?;

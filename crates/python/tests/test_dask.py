@@ -335,3 +335,44 @@ def test_repeated_calls_recompute(client):
     assert np.array_equal(a, b)
     counted = [t for t in ts.data if str(t["key"]).startswith("_count-")]
     assert len(counted) == 6
+
+
+@pytest.mark.parametrize("persist", [False, True])
+def test_counts_shaded_with_a_colormap(client, persist):
+    # The partitions' counts, added, shaded as pointillist.points shades the counts of all
+    # the rows at once (item 3: datashader's tf.shade on pointillist's counts).
+    pdf, df = frame(40_000, 6, 5)
+    df = df.persist() if persist else df
+    kw = dict(width=40, height=30, x_range=(0, 1), y_range=(0, 1), clear=0xFF304050)
+    for shade in (dict(cmap="fire"), dict(cmap=["#000000", "#FFFFFF"], how="linear", vmax=50),
+                  dict(cmap="viridis", how="log", size="s")):
+        got, want = both(pdf, df, client, **shade, **kw)
+        assert np.array_equal(got, want), shade
+        assert len(np.unique(want.reshape(-1, 4), axis=0)) > 20
+        assert (got.x_name, got.extent) == ("x", (0.0, 1.0, 0.0, 1.0))
+    with pytest.raises(ValueError, match="only a draw of one colour is shaded"):
+        pointillist.dask.points(df, "x", "y", blend="alpha", cmap="fire", client=client, **kw)
+
+
+@pytest.mark.parametrize("persist", [False, True])
+def test_colour_from_values_equals_one_draw(client, persist):
+    # Every partition colours its points with the column's global vmin and vmax (or those
+    # given): the result is pointillist.points' on all the rows, for any blend and strategy.
+    pdf, df = frame(20_000, 7, 5)
+    pdf["v"] = np.random.default_rng(7).gamma(2.0, size=len(pdf))
+    pdf["k"] = pd.Categorical(np.random.default_rng(8).choice(["a", "b", "c"], len(pdf)))
+    df = dd.from_pandas(pdf, npartitions=5, sort=False)
+    df = df.persist() if persist else df
+    kw = dict(width=W, height=H, x_range=(0, 1), y_range=(0, 1), clear=0xFF304050)
+    key = {"a": "#FF000080", "b": "#00FF0080", "c": "#0000FF80"}
+    for shade, least in ((dict(color="v", cmap="viridis", blend="alpha"), 20),
+                         (dict(color="v", cmap="fire", how="log", vmin=0.5, vmax=8), 20),
+                         (dict(color="k", color_key=key, blend="replace", size="s", z="z"), 4)):
+        got, want = both(pdf, df, client, **shade, **kw)
+        assert np.array_equal(got, want), shade
+        assert len(np.unique(want.reshape(-1, 4), axis=0)) >= least
+    with pytest.raises(TypeError, match=r'^how="eq_hist" of a column\'s values is not drawn'):
+        pointillist.dask.points(df, "x", "y", color="v", how="eq_hist", client=client, **kw)
+    with pytest.raises(TypeError, match=r"^color: column 'k' holds categories; on Dask give "
+                       r"color_key"):
+        pointillist.dask.points(df, "x", "y", color="k", cmap="fire", client=client, **kw)

@@ -97,9 +97,9 @@ def test_bad_tables_name_the_argument():
     error(TypeError, "y must be a column name with data; got ndarray", df, "lon", np.zeros(10))
     error(TypeError, "points takes the arrays x and y, or data and the names of its x and y "
           "columns", np.zeros(3))
-    pa = pytest.importorskip("pyarrow")  # installed with dask[dataframe]
-    error(TypeError, "data must be a pandas DataFrame or a dict of arrays (Arrow objects are "
-          "not read yet); got Table", pa.table({"lon": [1.0], "lat": [1.0]}), "lon", "lat")
+    error(TypeError, "data must be a pandas DataFrame, a dict of arrays or an Arrow table (an "
+          "object with __arrow_c_stream__ or __arrow_c_array__); got list", [[1.0], [1.0]],
+          "lon", "lat")
     # A NaN position in a numpy column: the array's own error.
     bad = df.copy()
     bad.loc[4, "lat"] = np.nan

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any, Optional, Tuple, Union
 import numpy
 import numpy.typing as npt
 
-from . import _native
+from . import _native, _shade
 from ._image import Image
 from ._native import Device, Error, Plot, SceneError, lanes
 
@@ -80,6 +80,11 @@ def points(
     texture: Optional[npt.NDArray[numpy.uint8]] = None,
     backend: Backend = "cpu",
     behaviour: Behaviour = None,
+    cmap: _shade.Cmap = None,
+    how: Optional[str] = None,
+    vmin: Optional[float] = None,
+    vmax: Optional[float] = None,
+    color_key: Optional[Mapping[Any, Any]] = None,
 ) -> Image:
     """Draw one point sprite per row of ``x, y`` and return the image.
 
@@ -91,16 +96,18 @@ def points(
 
     It is called with arrays, ``points(x, y, ...)``, or with a table and the names of its
     columns, ``points(data, x="col", y="col", size=..., color=..., z=...)``: ``data`` a pandas
-    DataFrame or a dict of 1-D arrays, and any of ``size``, ``color`` and ``z`` a column name
-    (a string) or, as with arrays, a constant or an array. Columns of numpy dtypes are read as
-    the arrays they hold, in place; a null in a column of a nullable (extension) dtype raises
+    DataFrame, a dict of 1-D arrays or an Arrow table (anything with ``__arrow_c_stream__`` or
+    ``__arrow_c_array__``: a pyarrow Table, RecordBatch or RecordBatchReader, a polars
+    DataFrame, a DuckDB result), and any of ``size``, ``color`` and ``z`` a column name (a
+    string) or, as with arrays, a constant or an array (with an Arrow table, a constant only).
+    Columns of numpy dtypes, and Arrow float32, float64 and uint32 columns, are read in place;
+    an Arrow table's record batches are drawn one after another, in order. A null raises
     ``ValueError`` naming the column and the first null row (positions, sizes, colours and
-    depths alike: a NaN size or depth is refused the same way). Arrow objects
-    (``__arrow_c_stream__``: pyarrow, polars) are not read yet.
+    depths alike: a NaN size or depth is refused the same way).
 
     Parameters
     ----------
-    data : pandas.DataFrame, dict of arrays, or None
+    data : pandas.DataFrame, dict of arrays, Arrow table, or None
         The table whose columns ``x``, ``y`` (and ``size``, ``color``, ``z`` where they are
         strings) name.
     x, y : 1-D arrays of real numbers, or column names
@@ -135,6 +142,19 @@ def points(
     behaviour : dict or None
         Device behaviour switches, ``{name: option}`` (:func:`behaviours` lists them; the
         defaults otherwise). ``{"minimum_size": "one_pixel"}`` draws sizes below 1 as 1.
+    cmap, how, vmin, vmax, color_key
+        Colour from values (any of them given turns it on). With ``color`` a column (or array)
+        of numbers: each point's colour is ``cmap``'s (a matplotlib colormap's name when
+        matplotlib is installed, a built-in one's, "viridis", "fire", "gray" or "blues", or a
+        list of colours; "viridis" by default) at its value normalised between ``vmin`` and
+        ``vmax`` (the values' least and greatest by default) as ``how`` says: "linear" (the
+        default), "log" or "eq_hist" (histogram equalisation). With a column of categories
+        (strings, categoricals, or any column with ``color_key``): ``color_key[category]``
+        (matplotlib's "tab10" colours, or ``cmap``'s spread evenly, by default). With one
+        ``color`` (a constant) and a draw that is counted ("add", "max" or "replace", no
+        ``z``, no texture): the counts of points on each pixel (saturating at 255) shaded
+        with ``cmap`` as datashader's ``tf.shade`` does (``how`` "eq_hist" by default), the
+        pixels no point covers left ``clear``.
 
     Returns
     -------
@@ -158,7 +178,9 @@ def points(
 
     The GIL is released while the points are drawn.
     """
-    x, y, size, color, z, x_name, y_name = _columns(data, x, y, size, color, z)
+    arrow = _is_arrow(data) and any(isinstance(v, str) for v in (x, y, size, color, z))
+    if not arrow:
+        x, y, size, color, z, x_name, y_name = _columns(data, x, y, size, color, z)
     plot = Plot(
         width,
         height,
@@ -170,8 +192,92 @@ def points(
         behaviour=behaviour,
         backend=backend,
     )
-    image = _native.points(plot, x, y, size=size, color=color, z=z)
+    shading = any(v is not None for v in (cmap, how, vmin, vmax, color_key))
+    shade: dict[str, Any] = dict(cmap=cmap, how=how, vmin=vmin, vmax=vmax)
+    constant = isinstance(color, int) or (not isinstance(color, str) and numpy.ndim(color) == 0)
+    if arrow:
+        x_name, y_name, z_name = _arrow_names(x, y, z)
+        if shading and isinstance(color, str):
+            data, values = _arrow_values(data, color)
+            color = _shade.colors_of("color", values, color_key=color_key, **shade)
+        image = _native.points_arrow(plot, data, x_name, y_name, size=_any(size),
+                                     color=_any(color), z=z_name, counts=shading and constant)
+    else:
+        if shading and not constant:
+            color = _shade.colors_of("color", color, color_key=color_key, **shade)
+        if shading and constant:
+            image = _native._counts(plot, _any((x, y, z, size, color)))
+            if image is None:
+                raise ValueError(_NOT_COUNTED)
+        else:
+            image = _native.points(plot, _any(x), _any(y), size=size, color=color, z=z)
+    if shading and constant:
+        image = _shade.shade_counts(image, plot.clear, **shade).view(Image)
     return image._located(plot, x_name, y_name)
+
+
+_NOT_COUNTED = (
+    'only a draw of one colour is shaded from its counts: a constant color, blend "add", '
+    '"max" or "replace", no z, no texture'
+)
+
+
+def _arrow_values(data: Any, name: str) -> Tuple[Any, Any]:
+    """Column ``name`` of an Arrow table as a numpy array (for colour from values), and the
+    table to draw: a polars frame's own column, else pyarrow's (a stream, which can be read
+    only once, is read into a pyarrow Table first). A null raises ``ValueError``."""
+    if hasattr(data, "get_column"):  # polars
+        if name not in data.columns:
+            raise ValueError(f"color: column {name!r} is not in data (its columns: "
+                             f"{', '.join(data.columns)})")
+        column = data.get_column(name)
+        values = column.to_numpy()
+        nulls = numpy.asarray(column.is_null().to_numpy())
+    else:
+        try:
+            import pyarrow
+        except ImportError:
+            raise TypeError(
+                "colour from an Arrow table's values needs pyarrow (or a polars frame)"
+            ) from None
+        if not hasattr(data, "column"):
+            data = pyarrow.table(data)
+        if name not in data.schema.names:
+            raise ValueError(f"color: column {name!r} is not in data (its columns: "
+                             f"{', '.join(data.schema.names)})")
+        column = data.column(name)
+        if pyarrow.types.is_dictionary(column.type):
+            column = column.cast(column.type.value_type)
+        values = column.to_numpy(zero_copy_only=False)
+        nulls = numpy.asarray(column.is_null())
+    if nulls.any():
+        raise ValueError(f"color: column {name!r} is null at row {int(numpy.argmax(nulls))}")
+    return data, values
+
+
+def _any(value: Any) -> Any:
+    """``value``, whose type the compiled function checks."""
+    return value
+
+
+def _is_arrow(data: Any) -> bool:
+    """Whether ``data`` is read through the Arrow PyCapsule interface: it has
+    ``__arrow_c_stream__`` or ``__arrow_c_array__`` and is not a pandas frame (read as the
+    numpy arrays it holds) or a dict."""
+    if data is None or _is_pandas(data) or isinstance(data, Mapping):
+        return False
+    kind = type(data)
+    return hasattr(kind, "__arrow_c_stream__") or hasattr(kind, "__arrow_c_array__")
+
+
+def _arrow_names(x: Any, y: Any, z: Any) -> Tuple[str, str, Optional[str]]:
+    """With an Arrow table, ``x`` and ``y`` (and ``z`` when given) must name columns."""
+    for arg, value in (("x", x), ("y", y), ("z", z)):
+        if not isinstance(value, str) and (arg != "z" or value is not None):
+            raise TypeError(
+                f"{arg} must be a column name with data; got {type(value).__name__}"
+            )
+    return x, y, z
 
 
 def _columns(data: Any, x: Any, y: Any, size: Any, color: Any, z: Any) -> tuple:
@@ -190,8 +296,8 @@ def _columns(data: Any, x: Any, y: Any, size: Any, color: Any, z: Any) -> tuple:
         raise TypeError(f"{_first_name(names)} names a column, but no data was given")
     if not (_is_pandas(data) or isinstance(data, Mapping)):
         raise TypeError(
-            "data must be a pandas DataFrame or a dict of arrays (Arrow objects are not read "
-            f"yet); got {type(data).__name__}"
+            "data must be a pandas DataFrame, a dict of arrays or an Arrow table (an object "
+            f"with __arrow_c_stream__ or __arrow_c_array__); got {type(data).__name__}"
         )
     for arg in ("x", "y"):
         if not isinstance(names[arg], str):

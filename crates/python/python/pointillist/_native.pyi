@@ -6,7 +6,7 @@ package carry their own annotations; this file describes only what is compiled.
 """
 
 import os
-from typing import Literal, Optional, Sequence, Tuple, Union
+from typing import Any, Literal, Optional, Sequence, Tuple, Union
 
 import numpy
 import numpy.typing as npt
@@ -20,6 +20,7 @@ __all__ = [
     "Device",
     "Plot",
     "points",
+    "points_arrow",
     "render_scene",
     "animate",
     "lanes",
@@ -122,6 +123,21 @@ def points(
     z: Optional[_Column] = None,
 ) -> Image:
     """One point sprite per row of ``x, y`` drawn as ``plot`` says (``pointillist.points``)."""
+
+def points_arrow(
+    plot: Plot,
+    data: Any,
+    x: str,
+    y: str,
+    *,
+    size: Union[float, str],
+    color: Union[int, str, _Column],
+    z: Optional[str] = None,
+    counts: bool = False,
+) -> Any:
+    """The rows of an Arrow table (``__arrow_c_stream__`` or ``__arrow_c_array__``), by column
+    names, drawn record batch by record batch as ``plot`` says (``pointillist.points``): the
+    Image, or with ``counts`` the ``(height, width)`` uint8 counts of a draw of one colour."""
 
 def render_scene(
     path: Union[str, os.PathLike[str]],

@@ -49,12 +49,13 @@ Example, on a real cluster::
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any, Callable, Optional, Sequence, Tuple, Union
 
 import numpy
 import numpy.typing as npt
 
-from . import _column, _native
+from . import _column, _native, _shade
 from ._image import Image
 from ._native import Plot
 
@@ -84,6 +85,11 @@ def points(
     split_every: int = 8,
     client: Any = None,
     behaviour: Behaviour = None,
+    cmap: _shade.Cmap = None,
+    how: Optional[str] = None,
+    vmin: Optional[float] = None,
+    vmax: Optional[float] = None,
+    color_key: Optional[Mapping[Any, Any]] = None,
 ) -> Image:
     """Draw the rows of Dask DataFrame ``df`` on a ``dask.distributed`` cluster, exactly.
 
@@ -114,6 +120,15 @@ def points(
     client : dask.distributed.Client or None
         The client to compute on; by default the active one (``distributed.default_client``),
         or Dask's local scheduler when there is none.
+    cmap, how, vmin, vmax, color_key
+        Colour from values, as in :func:`pointillist.points`. With ``color`` a column: each
+        partition computes its points' colours with the same ``vmin`` and ``vmax`` (by
+        default the column's least and greatest, computed first, one pass over the column),
+        so that the result is that of :func:`pointillist.points` on all the rows; ``how``
+        "linear" or "log" (not "eq_hist", which needs every value); a column of categories
+        needs ``color_key``. With one ``color`` (a constant) and a counted draw: the counts of
+        all the partitions, added, shaded as :func:`pointillist.points` shades them
+        (datashader's ``tf.shade``).
 
     Raises
     ------
@@ -146,7 +161,7 @@ def points(
         )
     if z is not None and "z" not in columns:
         raise TypeError("z must be a column name or None")
-    constants = {
+    constants: dict[str, Any] = {
         "size": None if "size" in columns else size,
         "color": None if "color" in columns else color,
     }
@@ -162,7 +177,15 @@ def points(
             0 if constants["color"] is None else constants["color"],
         ),
     )
+    shading = any(v is not None for v in (cmap, how, vmin, vmax, color_key))
+    if color_key is not None and constants["color"] is not None:
+        raise TypeError("color_key needs color to be a column of categories")
     client = _client(client)
+    if shading and constants["color"] is None:
+        constants["shade"] = _values_shade(
+            df, str(color), client, cmap=cmap, how=how, vmin=vmin, vmax=vmax,
+            color_key=color_key,
+        )
     # Fresh keys every call (pure=False): a call is never answered by the result of an
     # earlier one that the scheduler has not yet released.
     task = lambda fn, **kw: dask.delayed(fn, pure=False, **kw)  # noqa: E731
@@ -173,6 +196,11 @@ def points(
         and constants["color"] is not None
         and _native._counts(plot, layout) is not None
     )
+    if shading and constants["color"] is not None and not counted:
+        raise ValueError(
+            'only a draw of one colour is shaded from its counts: a constant color, blend '
+            '"add", "max" or "replace", no z, no texture'
+        )
     commuting = counted or (plot.commutes and z is None)
     held = _held(df, client) if commuting else None
     if counted:
@@ -188,6 +216,9 @@ def points(
             counts = [task(_count)(parts[p], p, *args) for p in range(len(parts))]
             total = _compute(_reduce(task, counts, _add_counts, split_every), client)
         total = numpy.asarray(total)
+        if shading:
+            shaded = _shade.shade_counts(total, plot.clear, cmap, how, vmin, vmax)
+            return shaded.view(Image)._located(plot, x, y)
         counted_image = _native._from_counts(plot, total, layout).view(Image)
         return counted_image._located(plot, x, y)
     if plot.commutes and z is None:
@@ -331,7 +362,54 @@ def _columns(part: Any, p: int, columns: dict, constants: dict) -> tuple:
         raise _named(p, e) from None
     size = get.get("size", constants["size"])
     color = get.get("color", constants["color"])
+    shade = constants.get("shade")
+    if shade is not None:
+        try:
+            color = _shade.colors_of("color", color, **shade)
+        except (ValueError, TypeError) as e:
+            raise _named(p, e) from None
     return get["x"], get["y"], get.get("z"), size, color
+
+
+def _values_shade(
+    df: Any,
+    name: str,
+    client: Any,
+    *,
+    cmap: _shade.Cmap,
+    how: Optional[str],
+    vmin: Optional[float],
+    vmax: Optional[float],
+    color_key: Optional[Mapping[Any, Any]],
+) -> dict:
+    """The arguments of :func:`_shade.colors_of` that colour every partition's column
+    ``name`` as all its values together would be: numbers between one ``vmin`` and ``vmax``
+    (the column's least and greatest unless given), categories by ``color_key``."""
+    how = how or "linear"
+    shade: dict = dict(cmap=cmap, how=how, vmin=vmin, vmax=vmax, color_key=color_key)
+    if color_key is not None:
+        return shade
+    if _shade._is_categorical(df[name]._meta):
+        raise TypeError(
+            f"color: column {name!r} holds categories; on Dask give color_key={{category: "
+            "colour}} (the default colours follow the order of first appearance)"
+        )
+    if how == "eq_hist":
+        raise TypeError(
+            'how="eq_hist" of a column\'s values is not drawn on Dask (it needs every value); '
+            'give how="linear" or "log" with vmin and vmax'
+        )
+    if vmin is None or vmax is None:
+        import dask
+
+        bounds = (df[name].min(), df[name].max())
+        if client is None:
+            lo, hi = dask.compute(*bounds)
+        else:
+            lo, hi = client.gather(client.compute(list(bounds)))
+        shade["vmin"] = float(lo) if vmin is None else vmin
+        shade["vmax"] = float(hi) if vmax is None else vmax
+    return shade
 
 
 def _named(p: int, error: Exception) -> Exception:
