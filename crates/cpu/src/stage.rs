@@ -632,20 +632,31 @@ impl VertexProcessing {
         specular: L::U,
     ) -> L::U {
         // The lanes' channels are blue, green, red, alpha; `Rgba`'s red, green, blue, alpha.
+        // Macros, not closures: a closure would be compiled without the lanes' features.
         const LANE: [usize; 4] = [2, 1, 0, 3];
         let (vd, vs) = (l.unpack(diffuse), l.unpack(specular));
-        let pick = |(source, material): (ColorSource, Rgba), c: usize| match source {
-            ColorSource::Material => l.splat(material[c]),
-            ColorSource::Diffuse => vd[LANE[c]],
-            ColorSource::Specular => vs[LANE[c]],
-        };
+        macro_rules! pick {
+            ($color:expr, $c:expr) => {
+                match $color {
+                    (ColorSource::Material, material) => l.splat(material[$c]),
+                    (ColorSource::Diffuse, _) => vd[LANE[$c]],
+                    (ColorSource::Specular, _) => vs[LANE[$c]],
+                }
+            };
+        }
         let (zero, one) = (l.splat(0.0), l.splat(1.0));
-        let saturate = |v| l.min(l.max(v, zero), one);
-        let rgb = |c: usize| {
-            let lit = l.mul(pick(ae.ambient, c), l.splat(ae.global_ambient[c]));
-            saturate(l.add(lit, pick(ae.emissive, c)))
-        };
-        l.quantize([rgb(2), rgb(1), rgb(0), saturate(pick(ae.diffuse, 3))])
+        macro_rules! saturate {
+            ($v:expr) => {
+                l.min(l.max($v, zero), one)
+            };
+        }
+        macro_rules! rgb {
+            ($c:expr) => {{
+                let lit = l.mul(pick!(ae.ambient, $c), l.splat(ae.global_ambient[$c]));
+                saturate!(l.add(lit, pick!(ae.emissive, $c)))
+            }};
+        }
+        l.quantize([rgb!(2), rgb!(1), rgb!(0), saturate!(pick!(ae.diffuse, 3))])
     }
 }
 
