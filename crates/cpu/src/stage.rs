@@ -10,7 +10,6 @@
 //! [`VertexProcessing`] is tested against `process` on random and hostile vertices, on every
 //! level the machine has: it drops the same points and gives the same squares, bit for bit.
 
-use pointillist_core::color::Rgba;
 use pointillist_core::fog::FogDepth;
 use pointillist_core::fvf::{read_f32, read_u32};
 use pointillist_core::light::{AmbientEmissive, ColorSource, LightSetup};
