@@ -5,7 +5,8 @@
 //! fills do not read. Vertices go N at a time, one a lane, on the level [`Level`] chose, then
 //! transformed ones four at a time on SSE2 where x86-64 has it, the rest one at a time; a lit
 //! or fogged point's colours are core's [`PointSetup::diffuse_and_fog`] of the position the lanes
-//! computed.
+//! computed, except that a draw lit without an active light is lit on the lanes (core's
+//! [`AmbientEmissive`], SPEC 8.7) and only its fog factor is core's, one point at a time.
 //!
 //! [`VertexProcessing`] is tested against `process` on random and hostile vertices, on every
 //! level the machine has: it drops the same points and gives the same squares, bit for bit.
