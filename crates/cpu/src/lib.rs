@@ -25,6 +25,7 @@ mod stage;
 #[cfg(test)]
 mod test_rng;
 
+use pointillist_core::color::argb_to_rgba8;
 use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
 use pointillist_core::draw::DrawSetup;
 
@@ -47,8 +48,11 @@ pub fn device(desc: DeviceDesc) -> Result<CpuDevice, DeviceError> {
 /// The CPU backend: owns the render target and its depth buffer in memory.
 ///
 /// A clear is deferred to the next draw, which writes it band by band just before the band's
-/// points, while the band is in cache (as tiled GPUs and llvmpipe do); reading the target
-/// writes a pending clear first, so the deferral is never visible.
+/// points, while the band is in cache (as tiled GPUs and llvmpipe do). A new target is zeroed
+/// memory fresh from the allocator (no page touched) with its creation colour and depth a
+/// pending clear, so each page is written once. A clear covers the whole target, so while one
+/// is pending the target reads as that colour and depth: reads return them without writing
+/// the target, and the deferral is never visible.
 #[derive(Debug, Default)]
 pub struct CpuBackend {
     target: RenderTarget,
@@ -99,8 +103,14 @@ impl Backend for CpuBackend {
         color: u32,
         depth: f32,
     ) -> Result<(), DeviceError> {
-        self.target = RenderTarget::new(width, height, color, depth);
-        self.pending_clear = None; // it was for the old target
+        let n = width as usize * height as usize;
+        self.target = RenderTarget {
+            width,
+            height,
+            color: vec![0; n],
+            depth: vec![0.0; n],
+        };
+        self.pending_clear = Some((color, depth));
         Ok(())
     }
 
@@ -124,18 +134,31 @@ impl Backend for CpuBackend {
     }
 
     fn read_target(&mut self) -> Result<RenderTarget, DeviceError> {
-        self.write_pending_clear();
-        Ok(self.target.clone())
+        Ok(match self.pending_clear {
+            Some((color, depth)) => {
+                RenderTarget::new(self.target.width, self.target.height, color, depth)
+            }
+            None => self.target.clone(),
+        })
     }
 
     fn read_rgba8(&mut self, rgba: &mut Vec<u8>) -> Result<(), DeviceError> {
-        self.write_pending_clear();
-        self.target.rgba8_into(rgba);
+        match self.pending_clear {
+            Some((color, _)) => {
+                let n = self.target.color.len();
+                rgba.clear();
+                rgba.extend(std::iter::repeat_n(argb_to_rgba8(color), n).flatten());
+            }
+            None => self.target.rgba8_into(rgba),
+        }
         Ok(())
     }
 
     fn take_target(&mut self) -> Result<RenderTarget, DeviceError> {
-        self.write_pending_clear();
-        Ok(std::mem::take(&mut self.target))
+        let taken = std::mem::take(&mut self.target);
+        Ok(match self.pending_clear.take() {
+            Some((color, depth)) => RenderTarget::new(taken.width, taken.height, color, depth),
+            None => taken,
+        })
     }
 }
