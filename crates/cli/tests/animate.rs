@@ -7,6 +7,7 @@ use std::fs;
 use std::path::Path;
 
 use common::{TempDir, command, path_arg, pointillist, stderr};
+use pointillist_fixtures::png_frames;
 
 /// A small fountain: 64x36, four frames at 10 fps, particles on every frame.
 const SCENE: &str = r#"
@@ -76,15 +77,14 @@ fn animate_writes_an_apng_of_the_exact_frames_and_is_deterministic() {
         "same scene, same bytes"
     );
     let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(&a).unwrap()));
-    let mut reader = decoder.read_info().unwrap();
-    let actl = reader.info().animation_control.unwrap();
+    let actl = decoder
+        .read_info()
+        .unwrap()
+        .info()
+        .animation_control
+        .unwrap();
     assert_eq!((actl.num_frames, actl.num_plays), (4, 0));
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    let mut frames = Vec::new();
-    for _ in 0..4 {
-        reader.next_frame(&mut buf).unwrap();
-        frames.push(buf.clone());
-    }
+    let frames = png_frames(&a, 4).unwrap();
     assert!(
         frames.windows(2).all(|w| w[0] != w[1]),
         "the particles move"
@@ -100,11 +100,7 @@ fn animate_writes_an_apng_of_the_exact_frames_and_is_deterministic() {
         "2",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(&single).unwrap()));
-    let mut reader = decoder.read_info().unwrap();
-    let mut one = vec![0; reader.output_buffer_size().unwrap()];
-    reader.next_frame(&mut one).unwrap();
-    assert_eq!(one, frames[2]);
+    assert_eq!(png_frames(&single, 1).unwrap()[0], frames[2]);
 }
 
 /// A storm of more than 4096 flakes (updated and written in parallel) in turbulence, many
@@ -164,7 +160,7 @@ fn animate_gives_the_same_bytes_on_any_thread_count_and_level() {
         "the levels differ"
     );
 
-    let frames = png_frames(&dir.path("one.png"), 3);
+    let frames = png_frames(&dir.path("one.png"), 3).unwrap();
     let single = dir.path("frame2.png");
     let o = pointillist(&[
         "render",
@@ -175,8 +171,12 @@ fn animate_gives_the_same_bytes_on_any_thread_count_and_level() {
         "2",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(png_frames(&single, 1)[0], frames[2]);
-    let lit = frames[2].chunks_exact(4).filter(|p| p[0] > 0x40).count();
+    assert_eq!(png_frames(&single, 1).unwrap()[0], frames[2]);
+    let lit = frames[2]
+        .rgba
+        .chunks_exact(4)
+        .filter(|p| p[0] > 0x40)
+        .count();
     assert!(lit > 500, "{lit} pixels show flakes");
 }
 
@@ -292,9 +292,9 @@ fn animate_compression_levels_write_the_same_frames_in_different_sizes() {
         assert!(o.status.success(), "{}", stderr(&o));
         files.push(out);
     }
-    let frames = png_frames(&files[0], 4);
+    let frames = png_frames(&files[0], 4).unwrap();
     for f in &files[1..] {
-        assert_eq!(png_frames(f, 4), frames, "{}", f.display());
+        assert_eq!(png_frames(f, 4).unwrap(), frames, "{}", f.display());
     }
     let size = |f: &Path| fs::metadata(f).unwrap().len();
     assert!(
@@ -303,19 +303,6 @@ fn animate_compression_levels_write_the_same_frames_in_different_sizes() {
         size(&files[1]),
         size(&files[0])
     );
-}
-
-/// The first `count` frames of the PNG or APNG at `path`, as RGBA8 bytes.
-fn png_frames(path: &Path, count: usize) -> Vec<Vec<u8>> {
-    let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(path).unwrap()));
-    let mut reader = decoder.read_info().unwrap();
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    (0..count)
-        .map(|_| {
-            reader.next_frame(&mut buf).unwrap();
-            buf.clone()
-        })
-        .collect()
 }
 
 /// Every preset scene renders one frame and animates (three frames to an APNG) from the CLI,
@@ -354,12 +341,13 @@ fn every_preset_renders_and_animates() {
             "3",
         ]);
         assert!(o.status.success(), "{name}: {}", stderr(&o));
-        let frames = png_frames(&anim, 3);
+        let frames = png_frames(&anim, 3).unwrap();
         assert_ne!(frames[0], frames[2], "{name}: the particles move");
-        let single = &png_frames(&out, 1)[0];
+        let single = &png_frames(&out, 1).unwrap()[0];
         let differing = single
+            .rgba
             .iter()
-            .zip(&frames[1])
+            .zip(&frames[1].rgba)
             .filter(|(a, b)| a != b)
             .count();
         assert_eq!(

@@ -4,9 +4,9 @@
 mod common;
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use pointillist_image::png::load_png;
+use pointillist_fixtures::read_png;
 
 use common::repo_root;
 
@@ -23,22 +23,6 @@ fn scene_files() -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
-}
-
-/// The RGBA8 bytes and size of a PNG.
-fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
-    let bytes = fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let texture = load_png(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let level = &texture.levels()[0];
-    let rgba = level
-        .texels
-        .iter()
-        .flat_map(|&c| {
-            let [b, g, r, a] = c.to_le_bytes();
-            [r, g, b, a]
-        })
-        .collect();
-    (level.width, level.height, rgba)
 }
 
 /// `pointillist render --backend gpu` renders every scene, and its image is within 1/255 per
@@ -71,12 +55,17 @@ fn every_scene_renders_with_backend_gpu() {
             eprintln!("no GPU adapter, skipped: {err}");
             return;
         }
-        let (gw, gh, gpu) = read_png(&out);
-        let (w, h, golden) = read_png(&scene.with_extension("png"));
-        assert_eq!((gw, gh), (w, h), "{name}");
+        let gpu = read_png(&out).unwrap();
+        let golden = read_png(&scene.with_extension("png")).unwrap();
+        assert_eq!(
+            (gpu.width, gpu.height),
+            (golden.width, golden.height),
+            "{name}"
+        );
         let worst = gpu
+            .rgba
             .iter()
-            .zip(&golden)
+            .zip(&golden.rgba)
             .map(|(a, b)| a.abs_diff(*b))
             .max()
             .unwrap_or(0);

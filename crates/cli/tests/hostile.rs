@@ -503,12 +503,7 @@ fn a_closed_pipe_ends_the_run_quietly_with_status_141() {
         .output()
         .expect("runs");
     assert_eq!(o.status.code(), Some(141), "{}", stderr(&o));
-    let file = fs::File::open(&out).expect("the output was committed");
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
-    reader.next_frame(&mut pixels).expect("a whole PNG");
+    pointillist_fixtures::read_png(&out).expect("a whole PNG, committed");
 
     // An error line that cannot be written on a closed standard error: 141, not a panic (101)
     // or an abort, and no output.

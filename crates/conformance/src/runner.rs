@@ -223,19 +223,10 @@ pub fn open_regular(path: &Path) -> Result<fs::File, String> {
     Ok(file)
 }
 
-/// Reads a PNG the replayer wrote: 8-bit RGBA only.
-pub fn read_png(path: &Path) -> Result<Image, String> {
-    decode_png(path, None)
-}
-
-/// Reads the PNG a replayer wrote for a case whose target is `width` x `height`: its header is
-/// checked against them before a pixel is decoded, so that a forged size allocates nothing.
-pub fn read_capture(path: &Path, width: u32, height: u32) -> Result<Image, String> {
-    decode_png(path, Some((width, height)))
-}
-
-/// [`read_png`], of `size` when given.
-fn decode_png(path: &Path, size: Option<(u32, u32)>) -> Result<Image, String> {
+/// Reads the PNG a replayer wrote for a case whose target is `width` x `height`: 8-bit RGBA
+/// only, its header checked against the size before a pixel is decoded, so that a forged size
+/// allocates nothing.
+pub fn read_capture(path: &Path, w: u32, h: u32) -> Result<Image, String> {
     let fail = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
     let file = open_regular(path)?;
     let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
@@ -249,9 +240,7 @@ fn decode_png(path: &Path, size: Option<(u32, u32)>) -> Result<Image, String> {
         )));
     }
     let (width, height) = (info.width, info.height);
-    if let Some((w, h)) = size
-        && (w, h) != (width, height)
-    {
+    if (w, h) != (width, height) {
         return Err(fail(&format_args!(
             "the device's image is {width}x{height}, the target {w}x{h}"
         )));

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use pointillist_conformance::calls::{Call, NO_TEXTURE, read_calls};
 use pointillist_conformance::expect::Status;
-use pointillist_conformance::runner::{DeviceInfo, Image, Runner, read_png};
+use pointillist_conformance::runner::{DeviceInfo, Image, Runner};
 use pointillist_conformance::{Options, conform, device_caps, export, find_cases, render};
 use pointillist_core::caps::{Caps, VertexProcessing};
 use pointillist_core::fvf::Fvf;
@@ -17,6 +17,7 @@ use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState
 use pointillist_core::texture::Texture;
 use pointillist_core::{Device, DeviceDesc, TransformType, Viewport};
 use pointillist_cpu::CpuBackend;
+use pointillist_fixtures::read_png;
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -413,7 +414,10 @@ fn captures_are_compared_at_the_device_caps_and_reported() {
         "16x16 shown 16 times larger"
     );
     let device_png = read_png(&report.join("img/changed.device.png")).unwrap();
-    assert_eq!(device_png, changed);
+    assert_eq!(
+        (device_png.width, device_png.height, &device_png.rgba),
+        (changed.width, changed.height, &changed.rgba)
+    );
     assert!(report.join("calls/changed.calls").is_file());
 }
 

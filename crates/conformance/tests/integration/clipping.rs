@@ -134,7 +134,7 @@ fn spec_3_1_xyzw_input_w_behaviour() {
             f(z),
             f(w),
             f(r.range(1.0, 12.0)),
-            r.color() | 0xFF00_0000,
+            r.next_u32() | 0xFF00_0000,
         ]));
     }
     let fvf = Fvf(Fvf::XYZW.0 | Fvf::PSIZE.0 | Fvf::DIFFUSE.0);

@@ -146,26 +146,7 @@ pub fn folder_holds(folder: &str, names: &[&str]) {
     assert_eq!(files, listed, "cases/{folder} and its test list differ");
 }
 
-/// A small deterministic generator (xorshift).
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)
-    }
-
-    pub fn color(&mut self) -> u32 {
-        self.next() as u32
-    }
-}
+pub use pointillist_fixtures::Rng;
 
 /// A `w` x `h` texture whose texels all differ (every channel varies), alpha varying too.
 pub fn distinct_texture(w: u32, h: u32) -> Arc<Texture> {
@@ -231,8 +212,8 @@ pub fn lit_grid(r: &mut Rng) -> Vec<u8> {
                     f(n[0]),
                     f(n[1]),
                     f(n[2]),
-                    r.color() | 0x4000_0000,
-                    r.color(),
+                    r.next_u32() | 0x4000_0000,
+                    r.next_u32(),
                 ]
                 .iter()
                 .flat_map(|w| w.to_le_bytes()),

@@ -564,7 +564,7 @@ fn pile_scene_draws(d: &mut AnyDevice) -> Result<(), DeviceError> {
                 1.0,
             ],
             psize: r.range(4.0, 24.0),
-            diffuse: r.color(),
+            diffuse: r.next_u32(),
         })
         .collect();
     d.set_render_state(RenderState::ZENABLE, 0u32);
@@ -655,7 +655,7 @@ fn large_draw_is_chunked_in_order() {
     let pts: Vec<XyzRhwDiffuse> = (0..1_100_000)
         .map(|_| XyzRhwDiffuse {
             position: [r.range(0.0, 256.0), r.range(0.0, 256.0), 0.5, 1.0],
-            diffuse: 0xFF00_0000 | (r.color() & 0x0003_0303),
+            diffuse: 0xFF00_0000 | (r.next_u32() & 0x0003_0303),
         })
         .collect();
     check("large_additive", 256, 256, Tolerance::Exact, |d| {

@@ -70,7 +70,7 @@ fn spec_4_1_random_pretransformed_points_exact() {
                 1.0,
             ],
             psize: r.range(0.0, 12.0),
-            diffuse: r.color() & 0xFF3F_3F3F,
+            diffuse: r.next_u32() & 0xFF3F_3F3F,
         })
         .collect();
     check("random_additive", 256, 192, Tolerance::Exact, |d| {

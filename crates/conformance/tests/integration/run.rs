@@ -18,7 +18,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use pointillist_core::RenderTarget;
-use pointillist_image::png::load_png;
+pub use pointillist_fixtures::{Image, read_png};
 use pointillist_image::write_png_atomic;
 
 /// The suite: `crates/conformance/cases`, one folder per SPEC chapter plus `wine/` and
@@ -63,7 +63,7 @@ pub fn run_case(file: &Path) -> Result<RenderTarget, String> {
         .map_err(|e| format!("{}: {e}", file.display()))?;
     case.check(&target, scene.target.clear, file)?;
     if let Some(image) = &case.image {
-        let actual = Image::from_target(&target);
+        let actual = image_of(&target);
         if blessing() {
             write_png(image, &actual)?;
             eprintln!("blessed {}", image.display());
@@ -74,57 +74,13 @@ pub fn run_case(file: &Path) -> Result<RenderTarget, String> {
     Ok(target)
 }
 
-/// An RGBA8 image.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Image {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// Bytes R, G, B, A per pixel, rows top to bottom.
-    pub rgba: Vec<u8>,
-}
-
-impl Image {
-    /// The target's pixels as RGBA8, alpha included.
-    pub fn from_target(t: &RenderTarget) -> Image {
-        Image {
-            width: t.width,
-            height: t.height,
-            rgba: t.to_rgba8(),
-        }
+/// The target's pixels as RGBA8, alpha included.
+pub fn image_of(t: &RenderTarget) -> Image {
+    Image {
+        width: t.width,
+        height: t.height,
+        rgba: t.to_rgba8(),
     }
-
-    /// The RGBA bytes of pixel (x, y).
-    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
-        let at = (y as usize * self.width as usize + x as usize) * 4;
-        [
-            self.rgba[at],
-            self.rgba[at + 1],
-            self.rgba[at + 2],
-            self.rgba[at + 3],
-        ]
-    }
-}
-
-/// Reads a PNG as RGBA8.
-pub fn read_png(path: &Path) -> Result<Image, String> {
-    let bytes = fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let texture = load_png(&bytes).map_err(|e| format!("cannot decode {}: {e}", path.display()))?;
-    let level = &texture.levels()[0];
-    let rgba = level
-        .texels
-        .iter()
-        .flat_map(|&c| {
-            let [b, g, r, a] = c.to_le_bytes();
-            [r, g, b, a]
-        })
-        .collect();
-    Ok(Image {
-        width: level.width,
-        height: level.height,
-        rgba,
-    })
 }
 
 /// Writes an RGBA8 PNG (atomically), creating its folder.

@@ -289,7 +289,7 @@ fn spec_2_2_point_scale() {
             XyzPsizeDiffuse {
                 position: [r.range(-z, z), r.range(-z, z), z],
                 psize: r.range(0.0, 0.4),
-                diffuse: r.color() | 0xFF00_0000,
+                diffuse: r.next_u32() | 0xFF00_0000,
             }
         })
         .collect();
@@ -338,7 +338,7 @@ fn spec_2_2_point_scale_with_a_subnormal_attenuation() {
             let z = r.range(2.9, 10.0);
             XyzDiffuse {
                 position: [r.range(-z, z) / 3.0, r.range(-z, z) / 3.0, z],
-                diffuse: r.color() | 0xFF00_0000,
+                diffuse: r.next_u32() | 0xFF00_0000,
             }
         })
         .collect();
@@ -393,7 +393,7 @@ fn spec_2_2_pretransformed_point_scale_behaviour() {
                 1.0,
             ],
             psize: r.range(0.0, 24.0),
-            diffuse: r.color() | 0xFF00_0000,
+            diffuse: r.next_u32() | 0xFF00_0000,
         })
         .collect();
     let scene = |d: &mut AnyDevice| {

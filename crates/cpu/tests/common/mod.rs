@@ -1,11 +1,9 @@
 //! Helpers shared by the CPU backend's integration tests: the tests' random stream ([`Rng`],
-//! the one the unit tests use) and a comparison of two targets.
+//! pointillist-fixtures', which the unit tests use too) and a comparison of two targets.
 
 use pointillist_core::device::RenderTarget;
 
-#[path = "../../src/test_rng.rs"]
-mod test_rng;
-pub(crate) use test_rng::Rng;
+pub(crate) use pointillist_fixtures::Rng;
 
 /// Asserts that `a` and `b` hold the same colours and the same depth bits; `what` names the
 /// comparison in the failure message.
