@@ -21,9 +21,7 @@
 //! ```
 
 mod raster;
-mod stage;
-#[cfg(test)]
-mod test_rng;
+mod vertex_processing;
 
 use pointillist_core::color::argb_to_rgba8;
 use pointillist_core::device::{Backend, Device, DeviceDesc, DeviceError, RenderTarget};
@@ -34,7 +32,7 @@ use pointillist_core::draw::DrawSetup;
 /// `POINTILLIST_LANES` names a narrower one; or `portable` (plain scalar code) elsewhere or when
 /// the variable says so. The pixels are the same on every one.
 pub fn lanes() -> &'static str {
-    pointillist_lanes::Level::detect().name()
+    pointillist_lanes::SimdLevel::detect().name()
 }
 
 /// A D3D9 device drawing on the CPU.

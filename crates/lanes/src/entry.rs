@@ -16,7 +16,7 @@
 /// arguments:
 ///
 /// ```
-/// use pointillist_lanes::{Lanes, Level, Portable};
+/// use pointillist_lanes::{Lanes, SimdLevel, Portable};
 ///
 /// /// The doubled values.
 /// fn double<L: Lanes>(l: L, v: &mut [f32]) {
@@ -34,14 +34,14 @@
 ///
 /// # fn main() {
 /// let mut v = [1.0; 16];
-/// match Level::detect() {
-///     Level::Portable => double(Portable::<8>, &mut v),
+/// match SimdLevel::detect() {
+///     SimdLevel::Portable => double(Portable::<8>, &mut v),
 ///     #[cfg(target_arch = "x86_64")]
-///     Level::Sse2(l) => doubled::sse2(l, &mut v),
+///     SimdLevel::Sse2(l) => doubled::sse2(l, &mut v),
 ///     #[cfg(target_arch = "x86_64")]
-///     Level::Avx2(l) => doubled::avx2(l, &mut v),
+///     SimdLevel::Avx2(l) => doubled::avx2(l, &mut v),
 ///     #[cfg(target_arch = "x86_64")]
-///     Level::Avx512(l) => doubled::avx2(l.narrow(), &mut v),
+///     SimdLevel::Avx512(l) => doubled::avx2(l.narrow(), &mut v),
 /// }
 /// assert_eq!(v, [2.0; 16]);
 /// # }
@@ -93,7 +93,7 @@ macro_rules! entry_points {
         pub(crate) fn $level<$($generics)*>(token: $token $(, $arg: $ty)*) $(-> $ret)? {
             #[target_feature(enable = $features)]
             fn kernel<$($generics)*>($l: $token $(, $arg: $ty)*) $(-> $ret)? $body
-            // SAFETY: a value of the token exists only once `Level::detect` (or the token's
+            // SAFETY: a value of the token exists only once `SimdLevel::detect` (or the token's
             // `new`) saw the CPU has the features `kernel` is compiled with.
             unsafe { kernel::<$($names)*>(token $(, $arg)*) }
         }

@@ -4,7 +4,7 @@
 //! alpha and depth comparisons, the stage's tests and ceilings), one file per level: AVX-512
 //! (sixteen lanes, `avx512.rs`), AVX2 (eight, `avx2.rs`), SSE2 (four, `sse2.rs`: the x86-64
 //! baseline) and a portable twin (eight lanes of plain scalar code, `portable.rs`: the
-//! reference the tests compare the others with). [`Level`] chooses one per process, the one
+//! reference the tests compare the others with). [`SimdLevel`] chooses one per process, the one
 //! place that reads [`LANES_VAR`] and detects the CPU's features; the particles and the plot
 //! take their levels from it too. [`entry_points!`] writes a generic kernel's per-level
 //! `#[target_feature]` functions. The scalar helpers the levels share are here.
@@ -14,7 +14,7 @@
 //! pixels drawn one at a time whichever implementation runs.
 //!
 //! A value of [`Avx2`] or [`Avx512`] exists only once the CPU has been seen to have the
-//! features ([`Level::detect`]); their operations call the intrinsics, which is sound because
+//! features ([`SimdLevel::detect`]); their operations call the intrinsics, which is sound because
 //! holding the value proves the features. Code generic over `L: Lanes` must be inlined into a
 //! function compiled with the features ([`entry_points!`] writes them), so every operation is
 //! `#[inline(always)]`; SSE2's need no such function.
@@ -264,12 +264,12 @@ pub type Channels = std::arch::x86_64::__m128;
 pub type Channels = [f32; 4];
 const _: fn(Channels) -> <Baseline as Lanes>::F = |c| c;
 
-/// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
+/// [`Baseline`]'s lanes, for the code that runs outside any [`SimdLevel`]'s functions: the
 /// single pixels of the fills, the rectangles of one colour, the wide spans on the portable
 /// level, and the vertices the stage's batches leave over.
 #[cfg(target_arch = "x86_64")]
 pub const BASELINE: Baseline = Sse2::new();
-/// [`Baseline`]'s lanes, for the code that runs outside any [`Level`]'s functions: the
+/// [`Baseline`]'s lanes, for the code that runs outside any [`SimdLevel`]'s functions: the
 /// single pixels of the fills, the rectangles of one colour, the wide spans on the portable
 /// level, and the vertices the stage's batches leave over.
 #[cfg(not(target_arch = "x86_64"))]
@@ -277,7 +277,7 @@ pub const BASELINE: Baseline = Portable;
 
 mod entry;
 mod level;
-pub use level::{LANES_VAR, Level};
+pub use level::{LANES_VAR, SimdLevel};
 
 mod portable;
 pub use portable::Portable;
@@ -307,14 +307,10 @@ macro_rules! with_features {
 use with_features;
 
 #[cfg(test)]
-#[path = "../../cpu/src/test_rng.rs"]
-mod test_rng;
-
-#[cfg(test)]
 mod tests {
     use super::*;
     use pointillist_core::color::{f32_to_unorm8, unorm8_to_f32};
-    use test_rng::Rng;
+    use pointillist_fixtures::Rng;
 
     /// How far outside `0..=1` [`Lanes::round_unit`] may be given a value.
     const UNIT_SLACK: f32 = 1.0 / 512.0;
@@ -333,13 +329,13 @@ mod tests {
     /// Floats a span meets and hostile ones: NaN, infinities, signed zeros, values next to
     /// the rounding boundaries of SPEC 1's pack.
     fn float(rng: &mut Rng) -> f32 {
-        match rng.next() % 8 {
-            0 => f32::from_bits(rng.next()),
+        match rng.next_u32() % 8 {
+            0 => f32::from_bits(rng.next_u32()),
             1 => rng.pick(&[f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, 0.0, 1.0]),
             2 => {
                 // Just below, at and just above a half step of 1/255.
-                let half = ((rng.next() % 256) as f32 + 0.5) / 255.0;
-                f32::from_bits(half.to_bits() + rng.next() % 3 - 1)
+                let half = ((rng.next_u32() % 256) as f32 + 0.5) / 255.0;
+                f32::from_bits(half.to_bits() + rng.next_u32() % 3 - 1)
             }
             3 => rng.pick(&[0.499_999_97 / 255.0, 0.5 / 255.0, 254.5 / 255.0]),
             _ => rng.range(-0.1, 1.1),
@@ -372,22 +368,26 @@ mod tests {
             let a: [f32; MAX_LANES] = std::array::from_fn(|_| float(&mut rng));
             let b: [f32; MAX_LANES] = std::array::from_fn(|_| float(&mut rng));
             let t: [f32; MAX_LANES] = std::array::from_fn(|_| float(&mut rng));
-            let px: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next());
-            let qx: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next());
-            let bytes: [u32; 2 * MAX_LANES] = std::array::from_fn(|_| rng.next() % 256);
-            let idx: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next() % 56);
-            let row: Vec<f32> = (0..1 + rng.next() % 48).map(|_| float(&mut rng)).collect();
-            let row_u: Vec<u32> = (0..1 + rng.next() % 48).map(|_| rng.next()).collect();
-            let mask = rng.next();
+            let px: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next_u32());
+            let qx: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next_u32());
+            let bytes: [u32; 2 * MAX_LANES] = std::array::from_fn(|_| rng.next_u32() % 256);
+            let idx: [u32; MAX_LANES] = std::array::from_fn(|_| rng.next_u32() % 56);
+            let row: Vec<f32> = (0..1 + rng.next_u32() % 48)
+                .map(|_| float(&mut rng))
+                .collect();
+            let row_u: Vec<u32> = (0..1 + rng.next_u32() % 48)
+                .map(|_| rng.next_u32())
+                .collect();
+            let mask = rng.next_u32();
             // Values over the whole domain of `round_unit`, its ends included.
-            let rng_unit: [f32; MAX_LANES] = std::array::from_fn(|_| match rng.next() % 4 {
+            let rng_unit: [f32; MAX_LANES] = std::array::from_fn(|_| match rng.next_u32() % 4 {
                 0 => rng.pick(&[-UNIT_SLACK, 1.0 + UNIT_SLACK, -0.0, 1.0]),
                 _ => rng.range(-UNIT_SLACK, 1.0 + UNIT_SLACK),
             });
             let func = rng.pick(&CMPS);
             // Partial loads fill the lanes past the slice with zeros; partial stores write
             // only the slice.
-            let part = rng.next() as usize % (L::N + 1);
+            let part = rng.next_u32() as usize % (L::N + 1);
             let got = f(l, l.load_part(&a[..part]));
             assert!(
                 (0..L::N).all(|i| got[i].to_bits() == if i < part { a[i] } else { 0.0 }.to_bits())
@@ -647,15 +647,15 @@ mod tests {
 
     #[test]
     fn spec_1_every_level_quantizes_half_steps_like_the_reference() {
-        for level in Level::available() {
+        for level in SimdLevel::available() {
             match level {
-                Level::Portable => quantize_rounds_like_the_reference(Portable::<8>),
+                SimdLevel::Portable => quantize_rounds_like_the_reference(Portable::<8>),
                 #[cfg(target_arch = "x86_64")]
-                Level::Sse2(l) => quantize_rounds_like_the_reference(l),
+                SimdLevel::Sse2(l) => quantize_rounds_like_the_reference(l),
                 #[cfg(target_arch = "x86_64")]
-                Level::Avx2(l) => quantize_rounds_like_the_reference(l),
+                SimdLevel::Avx2(l) => quantize_rounds_like_the_reference(l),
                 #[cfg(target_arch = "x86_64")]
-                Level::Avx512(l) => quantize_rounds_like_the_reference(l),
+                SimdLevel::Avx512(l) => quantize_rounds_like_the_reference(l),
             }
         }
     }
@@ -685,7 +685,7 @@ mod tests {
         };
         let mut rng = Rng(0x1234_5678_9ABC_DEF1);
         for _ in 0..100_000 {
-            let c = rng.next();
+            let c = rng.next_u32();
             let [r, g, b, a] = unpack(c);
             assert_eq!(bits(lanes(l.color(c))), bits([b, g, r, a]), "{c:08x}");
             assert_eq!(l.pack_color(l.color(c)), c);
@@ -716,18 +716,18 @@ mod tests {
 
     #[test]
     fn every_level_matches_the_portable_twin() {
-        for level in Level::available() {
+        for level in SimdLevel::available() {
             match level {
-                Level::Portable => {
+                SimdLevel::Portable => {
                     matches_the_portable_twin(Portable::<8>);
                     matches_the_portable_twin(Portable::<4>);
                 }
                 #[cfg(target_arch = "x86_64")]
-                Level::Sse2(l) => matches_the_portable_twin(l),
+                SimdLevel::Sse2(l) => matches_the_portable_twin(l),
                 #[cfg(target_arch = "x86_64")]
-                Level::Avx2(l) => matches_the_portable_twin(l),
+                SimdLevel::Avx2(l) => matches_the_portable_twin(l),
                 #[cfg(target_arch = "x86_64")]
-                Level::Avx512(l) => matches_the_portable_twin(l),
+                SimdLevel::Avx512(l) => matches_the_portable_twin(l),
             }
         }
     }

@@ -7,7 +7,7 @@
 //! position. Sampling never allocates and costs eight lattice reads; a non-finite position
 //! samples to zero. [`NoiseField::accelerate`] turns the field into the accelerations of many
 //! particles at once: eight at a time with AVX2 where the process's lane level has it
-//! ([`pointillist_lanes::Level::avx2`]), each lane doing [`NoiseField::sample`]'s operations in
+//! ([`pointillist_lanes::SimdLevel::avx2`]), each lane doing [`NoiseField::sample`]'s operations in
 //! its order, so that the results are the same bits on every CPU.
 
 use crate::curve::Keyable;
@@ -111,7 +111,7 @@ impl NoiseField {
         assert!(p.iter().all(|c| c.len() == n) && out.iter().all(|c| c.len() == n));
         let [ox, oy, oz] = out;
         #[cfg(target_arch = "x86_64")]
-        let first = match pointillist_lanes::Level::detect().avx2() {
+        let first = match pointillist_lanes::SimdLevel::detect().avx2() {
             Some(avx2) => {
                 x86::accelerate::avx2(avx2, &self.lattice, p, d, [&mut *ox, &mut *oy, &mut *oz])
             }

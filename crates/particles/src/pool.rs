@@ -153,7 +153,7 @@ fn all_set(flags: &[u8], first: usize) -> bool {
 /// eight particles at a time: each lane does the scalar arithmetic, so the bits are the same.
 fn update_block(block: &mut [f32], n: usize, p: &UpdateParams<'_>) -> usize {
     #[cfg(target_arch = "x86_64")]
-    if let Some(avx2) = pointillist_lanes::Level::detect().avx2() {
+    if let Some(avx2) = pointillist_lanes::SimdLevel::detect().avx2() {
         return update_at::avx2(avx2, block, n, p);
     }
     update_block_inline(block, n, p)

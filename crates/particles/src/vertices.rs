@@ -27,7 +27,7 @@ fn unorm8(v: f32) -> u32 {
 /// Writes the vertices of the `n` live particles of one block into `out` (`n` vertices long).
 fn write_block(block: &[f32], n: usize, e: &Emitter, out: &mut [u8]) {
     #[cfg(target_arch = "x86_64")]
-    if let Some(avx2) = pointillist_lanes::Level::detect().avx2() {
+    if let Some(avx2) = pointillist_lanes::SimdLevel::detect().avx2() {
         return write_at::avx2(avx2, block, n, e, out);
     }
     write_block_inline(block, n, e, out);

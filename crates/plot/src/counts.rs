@@ -27,7 +27,7 @@ use pointillist_core::device::MAX_TARGET_SIZE;
 use pointillist_core::draw::DrawSetup;
 use pointillist_core::pixel::{blend, write_masked};
 use pointillist_core::point::PointSetup;
-use pointillist_lanes::Level;
+use pointillist_lanes::SimdLevel;
 use rayon::prelude::*;
 
 use crate::axes::Axis;
@@ -223,7 +223,7 @@ struct Counter<'a> {
     /// The size of every point without per-point sizes (SPEC 2).
     size: f32,
     /// The vectors the pass that classifies the points runs on.
-    level: Level,
+    level: SimdLevel,
 }
 
 impl<'a> Counter<'a> {
@@ -235,7 +235,7 @@ impl<'a> Counter<'a> {
             points,
             kept: setup.keeps_pretransformed(0.0, 1.0),
             size: setup.size(setup.point_size(), 0.0),
-            level: Level::detect(),
+            level: SimdLevel::detect(),
         }
     }
 
@@ -301,14 +301,14 @@ impl<'a> Counter<'a> {
     fn one_pixel(&self, rows: std::ops::Range<usize>, index: &mut [u32]) {
         let pass = Pass::new(self, rows);
         match self.level {
-            Level::Portable => pass.run(index),
+            SimdLevel::Portable => pass.run(index),
             // SSE2, the x86-64 baseline, is the portable pass's own.
             #[cfg(target_arch = "x86_64")]
-            Level::Sse2(_) => pass.run(index),
+            SimdLevel::Sse2(_) => pass.run(index),
             #[cfg(target_arch = "x86_64")]
-            Level::Avx2(l) => pass_at::avx2(l, &pass, index),
+            SimdLevel::Avx2(l) => pass_at::avx2(l, &pass, index),
             #[cfg(target_arch = "x86_64")]
-            Level::Avx512(l) => pass_at::avx512(l, &pass, index),
+            SimdLevel::Avx512(l) => pass_at::avx512(l, &pass, index),
         }
     }
 }
@@ -520,7 +520,7 @@ mod tests {
                     let state = plot.device_state(&layout);
                     let setup = DrawSetup::new(&state, layout.fvf());
                     let axes = plot.axes().unwrap();
-                    for level in Level::available() {
+                    for level in SimdLevel::available() {
                         let counter = Counter {
                             level,
                             ..Counter::new(&setup.points, axes, w, &points)

@@ -114,7 +114,7 @@ mod tests {
 
     use super::super::draw_context;
     use super::*;
-    use crate::test_rng::Rng;
+    use pointillist_fixtures::Rng;
 
     /// The parallel plan (bins, bands, one or more threads) gives the bytes of drawing the
     /// points one after another, for flat points, sprites and points cut by clip planes.
@@ -127,7 +127,7 @@ mod tests {
             device.set_render_state(RenderState::LIGHTING, false);
             let sprite = scene % 3 != 0;
             if sprite {
-                let texels = (0..64).map(|_| rng.next()).collect();
+                let texels = (0..64).map(|_| rng.next_u32()).collect();
                 let texture = Arc::new(Texture::from_argb(8, 8, texels).unwrap());
                 device.set_texture(0, Some(texture)).unwrap();
                 device.set_render_state(RenderState::POINTSPRITEENABLE, true);
@@ -176,7 +176,7 @@ mod tests {
                         rng.range(-5.0, 5.0).to_bits(),
                         rng.range(-3.0, 10.0).to_bits(),
                         rng.range(0.5, 3.0).to_bits(),
-                        rng.next(),
+                        rng.next_u32(),
                     ]
                 } else {
                     [
@@ -189,7 +189,7 @@ mod tests {
                 };
                 let mut row = words.to_vec();
                 if !transformed {
-                    row.push(rng.next());
+                    row.push(rng.next_u32());
                 }
                 vertices.extend(row.iter().flat_map(|w| w.to_le_bytes()));
             }

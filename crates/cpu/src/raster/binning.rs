@@ -16,7 +16,7 @@ use super::shading::Shading;
 use super::span;
 use super::target::{BAND_ROWS, Band};
 use super::texels::LevelTexels;
-use crate::stage::Square;
+use crate::vertex_processing::Square;
 
 /// What a bin keeps of a point: enough to fill it without running the per-point stage again.
 pub(super) trait Binned: Copy + Send + Sync {

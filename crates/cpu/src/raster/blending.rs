@@ -303,7 +303,7 @@ mod tests {
     use pointillist_core::states::{Blend, BlendOp};
 
     use super::*;
-    use crate::test_rng::Rng;
+    use pointillist_fixtures::Rng;
 
     fn setup(src: Blend, dst: Blend) -> BlendSetup {
         BlendSetup {
@@ -324,13 +324,13 @@ mod tests {
         // A band of rows 1..4 of a target 13 pixels wide; the rectangle spans rows 0..3.
         let (width, height) = (13usize, 3usize);
         for _ in 0..3000 {
-            let src = rng.next();
-            let any = rng.next();
+            let src = rng.next_u32();
+            let any = rng.next_u32();
             let mask = rng.pick(&[0xFFFF_FFFF, 0x00FF_FFFF, 0xFF00_FF00, 0, any]);
-            let before: Vec<u32> = (0..width * height).map(|_| rng.next()).collect();
+            let before: Vec<u32> = (0..width * height).map(|_| rng.next_u32()).collect();
             let (mut color, mut depth) = (before.clone(), vec![1.0; width * height]);
-            let x0 = (rng.next() % 5) as i32;
-            let x1 = x0 + (rng.next() % 9) as i32;
+            let x0 = (rng.next_u32() % 5) as i32;
+            let x1 = x0 + (rng.next_u32() % 9) as i32;
             let r = PixelRect {
                 x0,
                 y0: 0,

@@ -10,8 +10,8 @@ use pointillist_core::tolerance::sprite_texel_edges;
 
 use super::shading::Shading;
 use super::texels::StageTexture;
-use crate::stage::SquareStage;
-use pointillist_lanes::Level as LanesLevel;
+use crate::vertex_processing::SquareStage;
+use pointillist_lanes::SimdLevel;
 
 /// Draws with fewer points run one point after another on the calling thread, unless they
 /// cover [`PARALLEL_MIN_PIXELS`]; bigger ones are binned, with any number of threads (the
@@ -38,10 +38,10 @@ pub(super) struct DrawContext<'a> {
     pub(super) shading: Shading,
     pub(super) textures: [Option<StageTexture<'a>>; MAX_STAGES],
     pub(super) vertices: &'a [u8],
-    /// The vectors the wide spans run on: [`LanesLevel::detect`]'s, or the baseline's on the
+    /// The vectors the wide spans run on: [`SimdLevel::detect`]'s, or the baseline's on the
     /// portable level. Tests set the portable twin, or none to fill every MODULATE sprite
     /// pixel by pixel.
-    pub(super) spans: Option<LanesLevel>,
+    pub(super) spans: Option<SimdLevel>,
     /// What a sprite's `(u, v)` is moved by ([`CpuBackend::with_sprite_texel_nudge`]), in
     /// texture coordinates: `[0, 0]` but for the conformance kit's nudged draws.
     ///
@@ -113,15 +113,15 @@ impl<'a> DrawContext<'a> {
             })
         });
         let points = draw.points.clone();
-        let level = LanesLevel::detect();
+        let level = SimdLevel::detect();
         // The point stage's batches pay on vector levels only.
-        let batches = Some(level).filter(|l| !matches!(l, LanesLevel::Portable));
+        let batches = Some(level).filter(|l| !matches!(l, SimdLevel::Portable));
         let spans = match level {
             // The portable level's eight scalar lanes are the tests' twin of the spans; its draws
             // take the baseline's lanes, as its per-pixel fills do (measured: W2 and W3 take 9.9 G
             // and 18.7 G instructions on the twin, 4.8 G and 8.7 G on SSE2).
             #[cfg(target_arch = "x86_64")]
-            LanesLevel::Portable => LanesLevel::Sse2(pointillist_lanes::BASELINE),
+            SimdLevel::Portable => SimdLevel::Sse2(pointillist_lanes::BASELINE),
             l => l,
         };
         let mut ctx = DrawContext {

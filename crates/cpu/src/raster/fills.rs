@@ -23,7 +23,7 @@ use super::shading::{Modulate, ModulateAlpha, Shading, inputs};
 use super::span;
 use super::target::{Band, rows};
 use super::texels::{Column, LevelTexels, StageTexture, Texel, TexelRow};
-use crate::stage::Square;
+use crate::vertex_processing::Square;
 
 /// Sprites this many columns wide or more fill through the wide spans ([`span`]); narrower
 /// ones pixel by pixel ([`fill_narrow`]; measured: 2 and 3 columns are faster there).

@@ -1,6 +1,6 @@
 //! Wide spans of textured sprites (SPEC 4.3, 5.1 to 5.6): the fill of a sprite with one
 //! MODULATE stage whose sampler reads one level (any level of detail, no blend of two),
-//! [`Lanes::N`] pixels a step on the machine's widest vectors ([`Level`]); sprites at most
+//! [`Lanes::N`] pixels a step on the machine's widest vectors ([`SimdLevel`]); sprites at most
 //! eight pixels wide take the AVX2 code on an AVX-512 machine, which measured faster there than
 //! sixteen lanes (and than eight lanes compiled for AVX-512).
 //!
@@ -37,8 +37,8 @@ use super::context::DrawContext;
 use super::shading::ModulateAlpha;
 use super::target::{Band, rows};
 use super::texels::PlanarLevel;
-use crate::stage::Square;
-use pointillist_lanes::{LANE_INDEX, Lanes, Level, MAX_LANES, Portable, channels};
+use crate::vertex_processing::Square;
+use pointillist_lanes::{LANE_INDEX, Lanes, MAX_LANES, Portable, SimdLevel, channels};
 
 impl PlanarLevel {
     /// [`MAX_LANES`] + 1 entries of each plane from entry `x` of row `y` (into the padding
@@ -109,7 +109,7 @@ pub(super) struct SpanTexture<'a> {
 /// Never inlined: the narrow sprites' loop that calls it stays small.
 #[inline(never)]
 pub(super) fn fill<B: Blender>(
-    level: Level,
+    level: SimdLevel,
     linear: bool,
     draw: SpanDraw<B>,
     p: &Square,
@@ -146,15 +146,15 @@ pub(super) fn fill<B: Blender>(
         };
     }
     match level {
-        Level::Portable => at!(Portable::<8>, fill_with, _),
+        SimdLevel::Portable => at!(Portable::<8>, fill_with, _),
         #[cfg(target_arch = "x86_64")]
-        Level::Sse2(l) => at!(l, fill_at::sse2),
+        SimdLevel::Sse2(l) => at!(l, fill_at::sse2),
         #[cfg(target_arch = "x86_64")]
-        Level::Avx2(l) => at!(l, fill_at::avx2),
+        SimdLevel::Avx2(l) => at!(l, fill_at::avx2),
         #[cfg(target_arch = "x86_64")]
-        Level::Avx512(l) if p.rect.x1 - p.rect.x0 <= 8 => at!(l.narrow(), fill_at::avx2),
+        SimdLevel::Avx512(l) if p.rect.x1 - p.rect.x0 <= 8 => at!(l.narrow(), fill_at::avx2),
         #[cfg(target_arch = "x86_64")]
-        Level::Avx512(l) => at!(l, fill_at::avx512),
+        SimdLevel::Avx512(l) => at!(l, fill_at::avx512),
     }
 }
 
@@ -634,8 +634,8 @@ fn texels_at<L: Lanes>(l: L, texels: &PlanarLevel, y: usize, columns: &Columns<L
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_rng::Rng;
     use pointillist_core::point::sprite_coord;
+    use pointillist_fixtures::Rng;
 
     /// [`axis`] on `l` against the per-pixel fills' indices (core's `sprite_coord`, then
     /// `linear_texel` or `point_texel` through [`super::super::texels::texel_index`]).
@@ -644,25 +644,25 @@ mod tests {
         let (mut entries, mut weights, mut consecutive) = (Vec::new(), Vec::new(), Vec::new());
         for round in 0..3000 {
             let n = rng.pick(&[1, 2, 5, 16, 64, 100]);
-            let size = match rng.next() % 3 {
+            let size = match rng.next_u32() % 3 {
                 0 => n as f32,
                 _ => rng.range(0.25, 90.0),
             };
-            let edge = match rng.next() % 3 {
-                0 => (rng.next() % 2000) as f32 - 100.5,
+            let edge = match rng.next_u32() % 3 {
+                0 => (rng.next_u32() % 2000) as f32 - 100.5,
                 _ => rng.range(-100.0, 2000.0),
             };
             // The covered pixels, sometimes one more on either side (outside the square).
-            let first = edge.ceil() as i32 - (rng.next() % 3) as i32 + 1;
+            let first = edge.ceil() as i32 - (rng.next_u32() % 3) as i32 + 1;
             // Hostile edges and sizes: the reference's sanitizing of NaN and huge coordinates.
-            let (edge, size) = match rng.next() % 16 {
+            let (edge, size) = match rng.next_u32() % 16 {
                 0 => (f32::NAN, size),
                 1 => (edge, f32::NAN),
                 2 => (edge, 1e-30),
                 3 => (f32::INFINITY, size),
                 _ => (edge, size),
             };
-            let count = 1 + (size.ceil() as usize + rng.next() as usize % 3);
+            let count = 1 + (size.ceil() as usize + rng.next_u32() as usize % 3);
             for linear in [false, true] {
                 let ok = if linear {
                     axis::<L, true>(
@@ -714,15 +714,15 @@ mod tests {
 
     #[test]
     fn spec_5_2_span_indices_match_the_per_pixel_fills_on_every_level() {
-        for level in Level::available() {
+        for level in SimdLevel::available() {
             match level {
-                Level::Portable => axis_matches_the_per_pixel_indices(Portable::<8>),
+                SimdLevel::Portable => axis_matches_the_per_pixel_indices(Portable::<8>),
                 #[cfg(target_arch = "x86_64")]
-                Level::Sse2(l) => axis_matches_the_per_pixel_indices(l),
+                SimdLevel::Sse2(l) => axis_matches_the_per_pixel_indices(l),
                 #[cfg(target_arch = "x86_64")]
-                Level::Avx2(l) => axis_matches_the_per_pixel_indices(l),
+                SimdLevel::Avx2(l) => axis_matches_the_per_pixel_indices(l),
                 #[cfg(target_arch = "x86_64")]
-                Level::Avx512(l) => axis_matches_the_per_pixel_indices(l),
+                SimdLevel::Avx512(l) => axis_matches_the_per_pixel_indices(l),
             }
         }
     }

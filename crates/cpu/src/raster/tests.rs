@@ -18,8 +18,8 @@ use super::blending::{General, Replace};
 use super::context::DrawContext;
 use super::shading::Shading;
 use super::{Bins, draw_context, draw_with};
-use crate::test_rng::Rng;
-use pointillist_lanes::Level as LanesLevel;
+use pointillist_fixtures::Rng;
+use pointillist_lanes::SimdLevel;
 
 /// A draw into `target` with `bins` and no clear.
 fn drawing<'t>(target: &'t mut RenderTarget, bins: &'t mut Bins) -> DrawTarget<'t> {
@@ -48,7 +48,7 @@ fn sprite_device(
 ) {
     let (w, h) = SPRITES_TARGET;
     let mut device = crate::device(DeviceDesc::new(w, h)).unwrap();
-    let texels = (0..tw * th).map(|_| rng.next()).collect();
+    let texels = (0..tw * th).map(|_| rng.next_u32()).collect();
     let texture = Arc::new(Texture::from_argb(tw, th, texels).unwrap());
     device.set_texture(0, Some(texture)).unwrap();
     let set =
@@ -62,7 +62,7 @@ fn sprite_device(
     let address = rng.pick(&[Wrap, Clamp, Border, Mirror]);
     set(&mut device, SamplerState::ADDRESSU, address as u32);
     set(&mut device, SamplerState::ADDRESSV, address as u32);
-    set(&mut device, SamplerState::BORDERCOLOR, rng.next());
+    set(&mut device, SamplerState::BORDERCOLOR, rng.next_u32());
     device.set_render_state(RenderState::POINTSPRITEENABLE, true);
     (device, filter, mip, address)
 }
@@ -78,7 +78,7 @@ fn random_sprites(rng: &mut Rng, count: usize, (small, big): (f32, f32)) -> (Fvf
             rng.range(0.0, 1.0).to_bits(),
             1.0f32.to_bits(),
             rng.range(small, big).to_bits(),
-            rng.next(),
+            rng.next_u32(),
         ];
         vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
     }
@@ -89,7 +89,7 @@ fn random_sprites(rng: &mut Rng, count: usize, (small, big): (f32, f32)) -> (Fvf
 fn random_target(rng: &mut Rng) -> RenderTarget {
     let (w, h) = SPRITES_TARGET;
     let mut t = RenderTarget::new(w, h, 0, 1.0);
-    t.color.iter_mut().for_each(|c| *c = rng.next());
+    t.color.iter_mut().for_each(|c| *c = rng.next_u32());
     t
 }
 
@@ -150,7 +150,7 @@ fn solid_runs_match_the_general_path() {
                 z.to_bits(),
                 1.0f32.to_bits(),
                 rng.range(1.0, 30.0).to_bits(),
-                rng.next(),
+                rng.next_u32(),
             ];
             vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
         }
@@ -213,7 +213,7 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
         device.set_render_state(RenderState::ZENABLE, depth);
         if scene % 4 == 1 {
             device.set_render_state(RenderState::ALPHATESTENABLE, true);
-            device.set_render_state(RenderState::ALPHAREF, rng.next() % 256);
+            device.set_render_state(RenderState::ALPHAREF, rng.next_u32() % 256);
             device.set_render_state(RenderState::ALPHAFUNC, Cmp::Greater);
         }
         let count = if scene % 2 == 0 { 3000 } else { 200 };
@@ -225,7 +225,7 @@ fn fast_paths_match_the_general_path_on_random_sprites() {
         let setup = (tw, th, filter, mip, address, alpha_op, blend, depth);
         // Binned: the wide spans on every level this machine has, and none (every sprite pixel
         // by pixel); then point after point, pixel by pixel.
-        let levels = LanesLevel::available().into_iter().map(|l| (Some(l), true));
+        let levels = SimdLevel::available().into_iter().map(|l| (Some(l), true));
         for (lanes, binned) in levels.chain([(None, true), (None, false)]) {
             let mut fast = start.clone();
             let mut ctx = DrawContext::new(&DrawSetup::new(state, fvf), &vertices, [0.0; 2]);
@@ -274,7 +274,7 @@ fn spec_5_2_spans_take_mipmapped_large_and_sequential_sprites() {
         let start = random_target(&mut rng);
         let mut general = start.clone();
         draw_general(&mut general, state, fvf, &vertices);
-        let levels = LanesLevel::available().into_iter().map(Some);
+        let levels = SimdLevel::available().into_iter().map(Some);
         for lanes in levels.chain([None]) {
             let mut fast = start.clone();
             let mut ctx = DrawContext::new(&DrawSetup::new(state, fvf), &vertices, [0.0; 2]);
@@ -335,7 +335,7 @@ fn spec_9_1_fogged_sprites_match_the_general_path() {
         let fvf = Fvf(fvf.0 | Fvf::SPECULAR.0);
         let vertices: Vec<u8> = plain
             .chunks(fvf.stride() - 4)
-            .flat_map(|v| [v, &rng.next().to_le_bytes()].concat())
+            .flat_map(|v| [v, &rng.next_u32().to_le_bytes()].concat())
             .collect();
         let start = random_target(&mut rng);
         let draw = |device: &crate::CpuDevice, lanes, binned: Option<bool>| {
@@ -355,7 +355,7 @@ fn spec_9_1_fogged_sprites_match_the_general_path() {
         };
         let unfogged = draw(&device, None, None);
         device.set_render_state(RenderState::FOGENABLE, true);
-        device.set_render_state(RenderState::FOGCOLOR, rng.next());
+        device.set_render_state(RenderState::FOGCOLOR, rng.next_u32());
         let general = draw(&device, None, None);
         let fogged = general
             .color
@@ -364,7 +364,7 @@ fn spec_9_1_fogged_sprites_match_the_general_path() {
             .filter(|(a, b)| a != b)
             .count();
         assert!(fogged > 100, "scene {scene}: fog changed {fogged} pixels");
-        let levels = LanesLevel::available().into_iter().map(Some);
+        let levels = SimdLevel::available().into_iter().map(Some);
         for (lanes, binned) in levels
             .chain([None])
             .map(|l| (l, true))

@@ -16,7 +16,7 @@ use pointillist_core::texture::{
     Level, LodSampler, SamplerDesc, Texture, fetch, linear_texel, point_texel,
 };
 
-use crate::stage::Square;
+use crate::vertex_processing::Square;
 use pointillist_lanes::{BASELINE, Channels, Lanes, MAX_LANES, Quad};
 
 /// A stage's texture and sampler for the draw.

@@ -1,8 +1,8 @@
-//! The per-point stage for the fills that need only a point's square and its diffuse colour
+//! Vertex processing for the fills that need only a point's square and its diffuse colour
 //! and fog factor: D3D9's fixed-function vertex processing of points (SPEC 1, 2, 3.1, 3.2,
 //! 4.1, 8, 9.1), core's [`PointSetup::process`], with a fast form for every draw without user
 //! clip planes ([`VertexProcessing`]) that resolves everything per draw and keeps nothing the
-//! fills do not read. Vertices go N at a time, one a lane, on the level [`Level`] chose, then
+//! fills do not read. Vertices go N at a time, one a lane, on the level [`SimdLevel`] chose, then
 //! transformed ones four at a time on SSE2 where x86-64 has it, the rest one at a time; a lit
 //! or fogged point's colours are core's [`PointSetup::diffuse_and_fog`] of the position the lanes
 //! computed, except that a draw lit without an active light is lit on the lanes (core's
@@ -20,7 +20,7 @@ use pointillist_core::point::{
 };
 use pointillist_core::states::Cmp;
 
-use pointillist_lanes::{BASELINE, LANE_INDEX, Lanes, Level, MAX_LANES, Portable};
+use pointillist_lanes::{BASELINE, LANE_INDEX, Lanes, MAX_LANES, Portable, SimdLevel};
 
 /// What the fills read of a point: its covered rectangle (never empty), depth, size, near
 /// edges, diffuse colour (SPEC 4.1 to 4.3, lit by SPEC 8), vertex fog factor (SPEC 9; 1
@@ -66,11 +66,11 @@ impl Square<'_> {
 /// core's stage otherwise; N at a time on `lanes`, when given.
 pub(crate) struct SquareStage {
     fast: Option<VertexProcessing>,
-    lanes: Option<Level>,
+    lanes: Option<SimdLevel>,
 }
 
 impl SquareStage {
-    pub(crate) fn new(points: &PointSetup, lanes: Option<Level>) -> SquareStage {
+    pub(crate) fn new(points: &PointSetup, lanes: Option<SimdLevel>) -> SquareStage {
         SquareStage {
             fast: VertexProcessing::new(points),
             lanes,
@@ -342,7 +342,7 @@ impl VertexProcessing {
     /// batches remain; the index of the first vertex left for one vertex at a time.
     fn for_each_batched<F: FnMut(u32, &Square)>(
         &self,
-        lanes: Level,
+        lanes: SimdLevel,
         points: &PointSetup,
         vertices: &[u8],
         range: std::ops::Range<u32>,
@@ -352,15 +352,15 @@ impl VertexProcessing {
             return range.start;
         }
         match lanes {
-            Level::Portable => self.batches(Portable::<8>, points, vertices, range, f),
+            SimdLevel::Portable => self.batches(Portable::<8>, points, vertices, range, f),
             // Pre-transformed vertices are cheaper one at a time than gathered four at a time
             // on SSE2; transformed ones go through `quads`.
             #[cfg(target_arch = "x86_64")]
-            Level::Sse2(_) => range.start,
+            SimdLevel::Sse2(_) => range.start,
             #[cfg(target_arch = "x86_64")]
-            Level::Avx2(l) => batches::avx2(l, self, points, vertices, range, f),
+            SimdLevel::Avx2(l) => batches::avx2(l, self, points, vertices, range, f),
             #[cfg(target_arch = "x86_64")]
-            Level::Avx512(l) => batches::avx512(l, self, points, vertices, range, f),
+            SimdLevel::Avx512(l) => batches::avx512(l, self, points, vertices, range, f),
         }
     }
 
@@ -678,25 +678,25 @@ pointillist_lanes::entry_points! {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::test_rng::Rng;
     use pointillist_core::caps::Caps;
     use pointillist_core::device::{DeviceDesc, TransformType, Viewport};
     use pointillist_core::fvf::Fvf;
     use pointillist_core::light::{Light, LightType, Material};
     use pointillist_core::math::Mat4;
     use pointillist_core::states::RenderState;
+    use pointillist_fixtures::Rng;
 
     /// Floats that stress the stage: NaN, infinities, negative zero, huge, tiny, halves.
     fn hostile(rng: &mut Rng) -> f32 {
-        match rng.next() % 12 {
+        match rng.next_u32() % 12 {
             0 => f32::NAN,
             1 => f32::INFINITY,
             2 => f32::NEG_INFINITY,
             3 => -0.0,
             4 => f32::MAX,
             5 => 1e-30,
-            6 => (rng.next() % 200) as f32 * 0.5 - 20.0,
-            7 => f32::from_bits(rng.next()),
+            6 => (rng.next_u32() % 200) as f32 * 0.5 - 20.0,
+            7 => f32::from_bits(rng.next_u32()),
             _ => rng.range(-40.0, 140.0),
         }
     }
@@ -748,13 +748,13 @@ mod tests {
                 // Material colours past the unit interval, negative, huge and now and then
                 // infinite (core's stage then lights them, SPEC 8.7).
                 let color = |rng: &mut Rng| {
-                    [0; 4].map(|_| match rng.next() % 16 {
+                    [0; 4].map(|_| match rng.next_u32() % 16 {
                         0 => hostile(rng),
                         1 => rng.range(-1.0, 0.0),
                         _ => rng.range(0.0, 1.2),
                     })
                 };
-                device.set_render_state(RenderState::AMBIENT, rng.next());
+                device.set_render_state(RenderState::AMBIENT, rng.next_u32());
                 device.set_material(Material {
                     diffuse: color(&mut rng),
                     ambient: color(&mut rng),
@@ -763,9 +763,9 @@ mod tests {
                     power: rng.range(0.0, 20.0),
                 });
                 device.set_render_state(RenderState::COLORVERTEX, case % 3 == 0);
-                device.set_render_state(RenderState::AMBIENTMATERIALSOURCE, rng.next() % 3);
-                device.set_render_state(RenderState::DIFFUSEMATERIALSOURCE, rng.next() % 3);
-                device.set_render_state(RenderState::EMISSIVEMATERIALSOURCE, rng.next() % 3);
+                device.set_render_state(RenderState::AMBIENTMATERIALSOURCE, rng.next_u32() % 3);
+                device.set_render_state(RenderState::DIFFUSEMATERIALSOURCE, rng.next_u32() % 3);
+                device.set_render_state(RenderState::EMISSIVEMATERIALSOURCE, rng.next_u32() % 3);
                 device.set_render_state(RenderState::SPECULARENABLE, case % 5 == 0);
                 if case % 8 == 2 {
                     let unit = |rng: &mut Rng| [0; 4].map(|_| rng.range(0.0, 1.2));
@@ -789,7 +789,7 @@ mod tests {
             // table fog, whose per-point factor core's stage also gives.
             if case % 3 != 0 {
                 device.set_render_state(RenderState::FOGENABLE, true);
-                let mode = 1 + rng.next() % 3;
+                let mode = 1 + rng.next_u32() % 3;
                 let table = case % 6 == 4;
                 let (used, other) = if table {
                     (RenderState::FOGTABLEMODE, RenderState::FOGVERTEXMODE)
@@ -816,7 +816,7 @@ mod tests {
                 RenderState::POINTSCALE_B,
                 RenderState::POINTSCALE_C,
             ] {
-                let v = if rng.next().is_multiple_of(6) {
+                let v = if rng.next_u32().is_multiple_of(6) {
                     hostile(&mut rng)
                 } else {
                     rng.range(0.0, 2.0)
@@ -825,10 +825,10 @@ mod tests {
             }
             if case % 4 == 1 {
                 let viewport = Viewport {
-                    x: rng.next() % 60,
-                    y: rng.next() % 40,
-                    width: 1 + rng.next() % 60,
-                    height: 1 + rng.next() % 50,
+                    x: rng.next_u32() % 60,
+                    y: rng.next_u32() % 40,
+                    width: 1 + rng.next_u32() % 60,
+                    height: 1 + rng.next_u32() % 50,
                     min_z: rng.range(0.0, 0.5),
                     max_z: rng.range(0.5, 1.0),
                 };
@@ -867,7 +867,7 @@ mod tests {
             let mut vertices = Vec::new();
             for _ in 0..200 {
                 let mut words = if fvf.is_pretransformed() {
-                    let coordinate = |rng: &mut Rng| match rng.next() % 4 {
+                    let coordinate = |rng: &mut Rng| match rng.next_u32() % 4 {
                         0 => hostile(rng),
                         _ => rng.range(-40.0, 140.0),
                     };
@@ -888,8 +888,8 @@ mod tests {
                     }
                     w
                 };
-                if rng.next().is_multiple_of(8) {
-                    let k = rng.next() as usize % words.len();
+                if rng.next_u32().is_multiple_of(8) {
+                    let k = rng.next_u32() as usize % words.len();
                     words[k] = hostile(&mut rng).to_bits();
                 }
                 if fvf.0 & Fvf::NORMAL.0 != 0 {
@@ -897,16 +897,16 @@ mod tests {
                 }
                 if fvf.has_psize() {
                     words.push(hostile(&mut rng).abs().min(90.0).to_bits());
-                    if rng.next().is_multiple_of(4) {
+                    if rng.next_u32().is_multiple_of(4) {
                         let last = words.len() - 1;
                         words[last] = hostile(&mut rng).to_bits();
                     }
                 }
                 if fvf.0 & Fvf::DIFFUSE.0 != 0 {
-                    words.push(rng.next());
+                    words.push(rng.next_u32());
                 }
                 if fvf.0 & Fvf::SPECULAR.0 != 0 {
-                    words.push(rng.next());
+                    words.push(rng.next_u32());
                 }
                 vertices.extend(words.iter().flat_map(|w| w.to_le_bytes()));
             }
@@ -935,7 +935,7 @@ mod tests {
             }
             // Four (transformed) or N (pre-transformed) vertices at a time on every level, from
             // an odd start so that a tail remains.
-            let levels = Level::available().into_iter().map(Some);
+            let levels = SimdLevel::available().into_iter().map(Some);
             for lanes in levels.chain([None]) {
                 let mut staged = vec![None; count as usize];
                 let stage = SquareStage::new(&points, lanes);
