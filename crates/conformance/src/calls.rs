@@ -659,6 +659,48 @@ pub fn read_calls(bytes: &[u8]) -> Result<(Header, Vec<Call>), FormatError> {
 mod tests {
     use super::*;
 
+    /// The opcodes are written three times: [`Op`], the replayer's C enum (which this reads
+    /// from `replayer/replayer.c`) and the table of docs/CONFORMANCE.md. The three agree, name
+    /// for name and number for number.
+    #[test]
+    fn opcodes_agree_with_the_replayer_and_the_docs() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let c = std::fs::read_to_string(root.join("replayer/replayer.c")).unwrap();
+        let start = c.find("OP_END = 0").expect("the replayer's opcode enum");
+        let body = &c[start..start + c[start..].find('}').unwrap()];
+        let c_names: Vec<String> = body
+            .split(',')
+            .map(|item| item.split('=').next().unwrap().trim().to_owned())
+            .filter(|name| !name.is_empty())
+            .collect();
+        let camel = |name: &str| -> String {
+            name.trim_start_matches("OP_")
+                .split('_')
+                .map(|w| w[..1].to_owned() + &w[1..].to_lowercase())
+                .collect()
+        };
+        let rust: Vec<String> = (0..)
+            .map_while(Op::from_u32)
+            .map(|op| format!("{op:?}"))
+            .collect();
+        let from_c: Vec<String> = c_names.iter().map(|n| camel(n)).collect();
+        assert_eq!(from_c, rust, "replayer.c's enum and Op");
+
+        let docs = std::fs::read_to_string(root.join("../../docs/CONFORMANCE.md")).unwrap();
+        let table = &docs[docs
+            .find("| op | call | payload |")
+            .expect("the opcode table")..];
+        let numbers: Vec<u32> = table
+            .lines()
+            .skip(2)
+            .take_while(|l| l.starts_with('|'))
+            .map(|l| l.split('|').nth(1).unwrap().trim().parse().unwrap())
+            .collect();
+        let expected: Vec<u32> = (0..rust.len() as u32).collect();
+        assert_eq!(numbers, expected, "docs/CONFORMANCE.md's opcode table");
+        assert!(Op::from_u32(rust.len() as u32).is_none());
+    }
+
     fn every_call() -> Vec<Call> {
         vec![
             Call::Clear {

@@ -1,7 +1,7 @@
 //! Comparing pointillist's image with the device's (SPEC 7's tolerances), and the magnified
 //! difference image the report shows.
 
-use pointillist_core::tolerance::Tolerance;
+use pointillist_core::tolerance::{Tolerance, channel_difference};
 
 use crate::runner::Image;
 
@@ -63,7 +63,8 @@ pub fn compare(ours: &Drawn, theirs: &Image, tolerance: Tolerance) -> Comparison
     let mut max_channel_difference = 0;
     let mut first = None;
     let mut marks = Vec::with_capacity(w as usize * h as usize * 4);
-    let apart = |a: &[u8], b: &[u8]| (0..4).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+    let pixel = |p: &[u8]| u32::from_le_bytes([p[0], p[1], p[2], p[3]]);
+    let apart = |a: &[u8], b: &[u8]| channel_difference(pixel(a), pixel(b));
     for (i, (a, b)) in ours
         .image
         .rgba

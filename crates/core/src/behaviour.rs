@@ -279,6 +279,7 @@ impl BehaviourSet {
 
 /// Why a switch could not be set.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum BehaviourError {
     /// No switch has this name.
     UnknownSwitch(String),

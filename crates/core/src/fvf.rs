@@ -19,6 +19,7 @@ const KNOWN_BITS: u32 = POSITION_MASK | 0x10 | 0x20 | 0x40 | 0x80 | TEXCOUNT_MAS
 
 /// Why an FVF code, name list or row is not accepted.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum FvfError {
     /// A name in an FVF expression that is not a D3DFVF flag.
     UnknownName(String),

@@ -38,6 +38,7 @@ fn normalize3(a: [f32; 3]) -> [f32; 3] {
 
 /// Why D3DXMatrixLookAtLH gives no view for an eye, a point looked at and an up vector.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum LookAtError {
     /// `at` equals `eye`: there is no view direction.
     AtIsEye,

@@ -50,6 +50,7 @@ pub struct Texture {
 
 /// Why a texture could not be built.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum TextureError {
     /// Level 0 has a zero width or height.
     ZeroSize {
@@ -157,7 +158,9 @@ fn next_size(width: u32, height: u32) -> (u32, u32) {
     ((width / 2).max(1), (height / 2).max(1))
 }
 
-fn check_size(width: u32, height: u32) -> Result<(), TextureError> {
+/// The texture size rule: level 0 is at least 1x1 and at most [`MAX_TEXTURE_SIZE`] per axis.
+/// The one check of it: textures built here and the image decoders (before they decode) call it.
+pub fn check_size(width: u32, height: u32) -> Result<(), TextureError> {
     if width == 0 || height == 0 {
         return Err(TextureError::ZeroSize { width, height });
     }

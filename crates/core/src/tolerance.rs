@@ -29,6 +29,17 @@ impl Tolerance {
     }
 }
 
+/// The largest difference of the four 8-bit channels of two colours (D3DCOLORs, or RGBA8
+/// pixels read as `u32`s, whichever byte order): what a [`Tolerance`] bounds.
+pub fn channel_difference(a: u32, b: u32) -> u8 {
+    a.to_be_bytes()
+        .iter()
+        .zip(b.to_be_bytes())
+        .map(|(x, y)| x.abs_diff(y))
+        .max()
+        .unwrap_or(0)
+}
+
 /// The tolerance table (SPEC 7) for `draw`.
 ///
 /// | the draw                                                            | tolerance  |

@@ -21,6 +21,7 @@ use crate::module;
 
 /// Why the GPU backend could not do something.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum GpuError {
     /// No adapter matched (no GPU, no Vulkan driver, ...).
     NoAdapter(String),

@@ -33,9 +33,9 @@
 //!   [`crate::MAX_TEXTURE_SIZE`] per axis and all size arithmetic is checked, so no input panics
 //!   and no allocation exceeds what the limit and the data present allow.
 
-use pointillist_core::texture::{Level, Texture, mip_chain_len};
+use pointillist_core::texture::{Level, Texture, check_size, mip_chain_len};
 
-use crate::{ImageError, MAX_TEXTURE_SIZE};
+use crate::ImageError;
 
 /// The four bytes every DDS file starts with.
 pub const DDS_MAGIC: &[u8] = b"DDS ";
@@ -482,16 +482,7 @@ pub fn load_dds(bytes: &[u8]) -> Result<Texture, ImageError> {
             ),
         });
     }
-    if width == 0 || height == 0 {
-        return Err(ImageError::ZeroSize { width, height });
-    }
-    if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
-        return Err(ImageError::TooLarge {
-            width,
-            height,
-            limit: MAX_TEXTURE_SIZE,
-        });
-    }
+    check_size(width, height).map_err(ImageError::Texture)?;
     let format = pixel_format(bytes)?;
     let chain = mip_chain_len(width, height);
     let count = if flags & DDSD_MIPMAPCOUNT != 0 {
@@ -544,6 +535,8 @@ pub fn load_dds(bytes: &[u8]) -> Result<Texture, ImageError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use pointillist_core::texture::TextureError;
+    use pointillist_fixtures::Rng;
 
     const DDPF_ALPHAPIXELS: u32 = 0x1;
 
@@ -844,10 +837,10 @@ mod tests {
             ]
         };
         let argb = |a: u32, [r, g, b]: [u32; 3]| (a << 24) | (r << 16) | (g << 8) | b;
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
         let (mut colours_differ, mut alphas_differ) = (0, 0);
         for _ in 0..4000 {
-            let r = xorshift(&mut state);
+            let r = rng.next_u64();
             let (c0, c1) = (r as u16, (r >> 16) as u16);
             let block = color_block(c0, c1, IDX);
             let (e0, e1) = (expand(c0), expand(c1));
@@ -987,10 +980,10 @@ mod tests {
         let e = load_dds(&file(0, 4, &pf, &[])).unwrap_err();
         assert!(matches!(
             e,
-            ImageError::ZeroSize {
+            ImageError::Texture(TextureError::ZeroSize {
                 width: 0,
                 height: 4
-            }
+            })
         ));
         let e = load_dds(&file(16385, 1, &pf, &[])).unwrap_err();
         assert!(e.to_string().contains("16385x1") && e.to_string().contains("16384"));
@@ -1061,14 +1054,6 @@ mod tests {
         assert!(load_dds(&vol).unwrap_err().to_string().contains("volume"));
     }
 
-    /// A tiny deterministic generator for the garbage test.
-    fn xorshift(state: &mut u64) -> u64 {
-        *state ^= *state << 13;
-        *state ^= *state >> 7;
-        *state ^= *state << 17;
-        *state
-    }
-
     #[test]
     fn truncated_and_garbage_inputs_never_panic() {
         let pf_list = [
@@ -1078,11 +1063,11 @@ mod tests {
             fourcc(b"DXT3"),
             fourcc(b"DXT5"),
         ];
-        let mut seed = 0x1234_5678_9ABC_DEF0u64;
+        let mut rng = Rng(0x1234_5678_9ABC_DEF0);
         for pf in &pf_list {
             let mut f = header(7, 5, Some(3), pf);
             for _ in 0..400 {
-                f.push(xorshift(&mut seed) as u8);
+                f.push(rng.next_u64() as u8);
             }
             assert!(load_dds(&f).is_ok());
             for n in 0..f.len() {
@@ -1092,15 +1077,15 @@ mod tests {
             for _ in 0..2000 {
                 let mut g = f.clone();
                 for _ in 0..3 {
-                    let i = (xorshift(&mut seed) % DATA_OFFSET as u64) as usize;
-                    g[i] = xorshift(&mut seed) as u8;
+                    let i = (rng.next_u64() % DATA_OFFSET as u64) as usize;
+                    g[i] = rng.next_u64() as u8;
                 }
                 let _ = load_dds(&g);
             }
         }
         for _ in 0..2000 {
-            let n = (xorshift(&mut seed) % 300) as usize;
-            let mut g: Vec<u8> = (0..n).map(|_| xorshift(&mut seed) as u8).collect();
+            let n = (rng.next_u64() % 300) as usize;
+            let mut g: Vec<u8> = (0..n).map(|_| rng.next_u64() as u8).collect();
             if g.len() >= 4 {
                 g[..4].copy_from_slice(DDS_MAGIC);
             }

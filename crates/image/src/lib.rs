@@ -18,7 +18,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use pointillist_core::RenderTarget;
-use pointillist_core::texture::{Texture, TextureError};
+use pointillist_core::texture::{Texture, TextureError, check_size};
 
 pub mod dds;
 pub mod output;
@@ -29,6 +29,7 @@ pub const MAX_TEXTURE_SIZE: u32 = pointillist_core::texture::MAX_TEXTURE_SIZE;
 
 /// Why an image could not be read or written.
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum ImageError {
     /// The data ends before something it declares.
     Truncated {
@@ -61,22 +62,6 @@ pub enum ImageError {
     Unsupported {
         /// The format (FourCC, flags, bit count and masks) or feature.
         detail: String,
-    },
-    /// Zero width or height.
-    ZeroSize {
-        /// Width declared.
-        width: u32,
-        /// Height declared.
-        height: u32,
-    },
-    /// Width or height over [`MAX_TEXTURE_SIZE`].
-    TooLarge {
-        /// Width declared.
-        width: u32,
-        /// Height declared.
-        height: u32,
-        /// The per-axis limit.
-        limit: u32,
     },
     /// The decoded levels do not form a valid texture.
     Texture(TextureError),
@@ -146,17 +131,6 @@ impl fmt::Display for ImageError {
                 "invalid header field {field} at offset {offset}: {value} (0x{value:X}), expected {expected}"
             ),
             ImageError::Unsupported { detail } => write!(f, "unsupported {detail}"),
-            ImageError::ZeroSize { width, height } => {
-                write!(f, "image size {width}x{height} has a zero dimension")
-            }
-            ImageError::TooLarge {
-                width,
-                height,
-                limit,
-            } => write!(
-                f,
-                "image size {width}x{height} exceeds the limit of {limit} pixels per axis"
-            ),
             ImageError::Texture(e) => write!(f, "invalid texture: {e}"),
             ImageError::PngDecode(e) => write!(f, "PNG decoding failed: {e}"),
             ImageError::PngEncode(e) => write!(f, "PNG encoding failed: {e}"),
@@ -308,9 +282,7 @@ pub fn texture_decode_cost(path: &Path) -> Option<DecodeCost> {
         Some(Format::Dds) => word(16, true).zip(word(12, true)),
         _ => None,
     };
-    let (w, h) = size.filter(|&(w, h)| {
-        (1..=MAX_TEXTURE_SIZE).contains(&w) && (1..=MAX_TEXTURE_SIZE).contains(&h)
-    })?;
+    let (w, h) = size.filter(|&(w, h)| check_size(w, h).is_ok())?;
     let (mut lw, mut lh, mut texture) = (u64::from(w), u64::from(h), 0);
     loop {
         texture += lw * lh * 4;

@@ -14,9 +14,9 @@ use std::io::{Cursor, Write};
 
 use ::png::{BitDepth, ColorType, Decoder, Encoder, Transformations};
 use pointillist_core::color::rgba8_to_argb;
-use pointillist_core::texture::Texture;
+use pointillist_core::texture::{Texture, check_size};
 
-use crate::{ImageError, MAX_TEXTURE_SIZE};
+use crate::ImageError;
 
 /// The eight bytes every PNG file starts with.
 pub const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
@@ -54,22 +54,13 @@ pub fn load_png(bytes: &[u8]) -> Result<Texture, ImageError> {
     );
     let header = decoder.read_header_info().map_err(ImageError::PngDecode)?;
     let (width, height) = (header.width, header.height);
-    if width == 0 || height == 0 {
-        return Err(ImageError::ZeroSize { width, height });
-    }
-    if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
-        return Err(ImageError::TooLarge {
-            width,
-            height,
-            limit: MAX_TEXTURE_SIZE,
-        });
-    }
+    check_size(width, height).map_err(ImageError::Texture)?;
     let mut reader = decoder.read_info().map_err(ImageError::PngDecode)?;
-    let size = reader.output_buffer_size().ok_or(ImageError::TooLarge {
-        width,
-        height,
-        limit: MAX_TEXTURE_SIZE,
-    })?;
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| ImageError::Unsupported {
+            detail: format!("PNG of {width}x{height}: its decoded size cannot be addressed"),
+        })?;
     let mut buf = vec![0u8; size];
     let out = reader.next_frame(&mut buf).map_err(ImageError::PngDecode)?;
     if out.bit_depth != BitDepth::Eight {
@@ -133,7 +124,9 @@ pub fn write_png_rgba8<W: Write>(
     compression: Compression,
 ) -> Result<(), ImageError> {
     if width == 0 || height == 0 {
-        return Err(ImageError::ZeroSize { width, height });
+        return Err(ImageError::Unsupported {
+            detail: format!("PNG of {width}x{height} pixels (a PNG has at least one per axis)"),
+        });
     }
     let expected = (width as usize)
         .checked_mul(height as usize)
@@ -160,6 +153,7 @@ pub fn write_png_rgba8<W: Write>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use pointillist_core::texture::TextureError;
 
     fn encode_with(
         width: u32,
@@ -315,7 +309,7 @@ mod tests {
         ));
         assert!(matches!(
             encode_png_rgba8(0, 2, &[]),
-            Err(ImageError::ZeroSize { .. })
+            Err(ImageError::Unsupported { .. })
         ));
     }
 
@@ -334,11 +328,11 @@ mod tests {
         assert!(
             matches!(
                 e,
-                ImageError::TooLarge {
+                ImageError::Texture(TextureError::TooLarge {
                     width: 20000,
                     height: 1,
                     ..
-                }
+                })
             ),
             "{e}"
         );

@@ -42,6 +42,7 @@ impl Keyable for [f32; 4] {
 
 /// Why a list of keys is not a curve.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum CurveError {
     /// No keys at all.
     Empty,

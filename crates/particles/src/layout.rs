@@ -22,3 +22,12 @@ pub const PARALLEL_MIN: usize = 4 * BLOCK;
 pub const VERTEX_FVF: Fvf = XyzPsizeDiffuse::FVF;
 /// Bytes per vertex of [`VERTEX_FVF`].
 pub const VERTEX_STRIDE: usize = 20;
+/// Bytes an emitter holds per particle of its `max_particles`, for memory budgets: its eleven
+/// `f32` columns of storage, its vertex, and when sorted a key and a second vertex copy
+/// (`DrawBuffers`), rounded up to a multiple of 16.
+pub const PARTICLE_BYTES: usize =
+    (COLUMNS * 4 + 2 * VERTEX_STRIDE + size_of::<(u32, u32)>()).next_multiple_of(16);
+const _: () = assert!(
+    PARTICLE_BYTES == 96,
+    "docs/spec/PARTICLES.md states 96 bytes"
+);

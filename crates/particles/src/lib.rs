@@ -67,7 +67,7 @@ pub use emitter::{
     BlendMode, Burst, ConfigError, Emitter, MAX_PARTICLES, Range, Range3, RenderSettings, Shape,
     Turbulence,
 };
-pub use layout::{BLOCK, PARALLEL_MIN, VERTEX_FVF, VERTEX_STRIDE};
+pub use layout::{BLOCK, PARALLEL_MIN, PARTICLE_BYTES, VERTEX_FVF, VERTEX_STRIDE};
 pub use noise::{NOISE_PERIOD, NoiseField};
 pub use rng::Rng;
 pub use system::{

@@ -62,6 +62,7 @@ pub const BLOCK_VERTICES: usize = 1 << 18;
 
 /// Why a plot cannot be drawn. Each message is one line naming the argument at fault.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum PlotError {
     /// A column whose length differs from x's.
     Length {

@@ -13,6 +13,7 @@
 use std::path::{Path, PathBuf};
 
 use pointillist_core::RenderTarget;
+use pointillist_core::tolerance::channel_difference;
 
 use crate::error::{Origin, SceneError};
 
@@ -70,16 +71,6 @@ pub(crate) fn is_rule(s: &str) -> bool {
         None => digits(s),
         Some((n, m)) => digits(n) && digits(m),
     }
-}
-
-/// Largest difference of the 8-bit channels of `a` and `b`.
-fn channel_difference(a: u32, b: u32) -> u8 {
-    a.to_be_bytes()
-        .iter()
-        .zip(b.to_be_bytes())
-        .map(|(x, y)| x.abs_diff(y))
-        .max()
-        .unwrap_or(0)
 }
 
 impl Expect {

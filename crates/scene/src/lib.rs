@@ -52,6 +52,7 @@ use pointillist_core::math::Mat4;
 use pointillist_core::states::{Api, RenderState, SamplerState, TextureStageState};
 use pointillist_core::texture::Texture;
 use pointillist_core::{Backend, Device, DeviceDesc, TransformType, Viewport};
+use pointillist_image::output::file_kind;
 use pointillist_particles::{DrawBuffers, Emitter, ParticleSystem, SystemConfig};
 
 pub use case::{Case, Expect, Others, list_cases};
@@ -76,9 +77,6 @@ pub const PROCESS_BYTES: u64 = 512 << 20;
 /// as large as the pixels when they do not compress). The render also holds one draw's scratch,
 /// [`pointillist_core::DRAW_SCRATCH_BYTES`], charged with the target.
 pub const TARGET_BYTES_PER_PIXEL: u64 = 12;
-/// Bytes an emitter holds per particle of `max_particles`: eleven f32 columns, its
-/// XYZ | PSIZE | DIFFUSE vertex, and when sorted a key and a second vertex copy.
-pub const PARTICLE_BYTES: u64 = 96;
 /// The largest scene file read, in bytes (docs/spec/SCENE.md, limits): checked from the file's
 /// length before it is read. Large vertex sets belong in raw vertex files (`file =`).
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;
@@ -92,10 +90,10 @@ pub const MAX_STEPS_PER_FRAME: u64 = 1 << 20;
 pub const MAX_SIMULATION_STEPS: u64 = 1 << 24;
 
 /// Bytes an emitter of `max_particles` holds: its storage is whole blocks of
-/// [`pointillist_particles::BLOCK`] particles, [`PARTICLE_BYTES`] each.
+/// [`pointillist_particles::BLOCK`] particles, [`pointillist_particles::PARTICLE_BYTES`] each.
 pub fn emitter_bytes(max_particles: usize) -> u64 {
     let block = pointillist_particles::BLOCK;
-    (max_particles.div_ceil(block) * block) as u64 * PARTICLE_BYTES
+    (max_particles.div_ceil(block) * block) as u64 * pointillist_particles::PARTICLE_BYTES as u64
 }
 
 /// The render target of a scene: an A8R8G8B8 surface with a depth buffer.
@@ -375,6 +373,7 @@ impl Animation {
 
 /// Which bound of [`Animation::check_steps`] an animation goes over, and its one-line reason.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum StepsError {
     /// The warm-up alone takes more than [`MAX_STEPS_PER_FRAME`].
     Warmup(String),
@@ -485,28 +484,6 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         return Err(too_big(text.len() as u64));
     }
     parse(&text, path)
-}
-
-/// What a file that is not a regular file is, for messages.
-fn file_kind(m: &std::fs::Metadata) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        let t = m.file_type();
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_fifo() {
-            return "a named pipe";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
-    }
-    if m.is_dir() { "a folder" } else { "not a file" }
 }
 
 /// Parses scene text. `file` names the scene in errors, and relative files are resolved from its

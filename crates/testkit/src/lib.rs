@@ -39,7 +39,7 @@ pub use parity::{
 };
 
 /// How close the GPU backend's colours must be to the CPU backend's.
-pub use pointillist_core::tolerance::Tolerance;
+pub use pointillist_core::tolerance::{Tolerance, channel_difference};
 
 /// The tolerance table (SPEC 7, [`pointillist_core::tolerance::draw_tolerance`]) for `draw`.
 /// `POINTILLIST_GPU_EXACT=1` makes every comparison exact, to measure how close an adapter
@@ -97,16 +97,6 @@ pub fn diff_dir() -> PathBuf {
     target_dir().join("gpu-diffs")
 }
 
-/// Largest per-channel difference of two D3DCOLORs.
-pub fn channel_diff(a: u32, b: u32) -> u8 {
-    a.to_be_bytes()
-        .iter()
-        .zip(b.to_be_bytes())
-        .map(|(x, y)| x.abs_diff(y))
-        .max()
-        .unwrap_or(0)
-}
-
 /// True when a GPU depth is the CPU depth as a WebGPU depth buffer can hold it: clamped to
 /// 0..=1, subnormals flushed to 0 (GPUs flush them), -0 and +0 alike, NaN not compared.
 fn same_depth(cpu: f32, gpu: f32) -> bool {
@@ -149,7 +139,7 @@ pub fn compare(
     let mut first = Vec::new();
     let (mut count, mut worst) = (0usize, 0u8);
     for (k, (&c, &g)) in cpu.color.iter().zip(&gpu.color).enumerate() {
-        let d = channel_diff(c, g);
+        let d = channel_difference(c, g);
         let depth_bad = !same_depth(cpu.depth[k], gpu.depth[k]);
         if d > allowed || depth_bad {
             count += 1;

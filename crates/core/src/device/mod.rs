@@ -128,6 +128,7 @@ impl DeviceDesc {
 
 /// Why a device call was refused.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum DeviceError {
     /// Target size zero or above [`MAX_TARGET_SIZE`].
     TargetSize {
@@ -192,7 +193,15 @@ impl fmt::Display for DeviceError {
     }
 }
 
-impl std::error::Error for DeviceError {}
+impl std::error::Error for DeviceError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            DeviceError::Fvf(e) => Some(e),
+            DeviceError::Light { error, .. } => Some(error),
+            _ => None,
+        }
+    }
+}
 
 impl From<FvfError> for DeviceError {
     fn from(e: FvfError) -> Self {

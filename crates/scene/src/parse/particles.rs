@@ -424,9 +424,9 @@ impl Parser<'_> {
                 Some(v) => range(src, v, &f.path(key), lo),
             }
         };
-        let v3 = |key: &str| -> Result<[f32; 3], SceneError> {
+        let v3 = |key: &str, default: [f32; 3]| -> Result<[f32; 3], SceneError> {
             match f.get(key) {
-                None => Ok([0.0; 3]),
+                None => Ok(default),
                 Some(v) => vec3(src, v, &f.path(key)),
             }
         };
@@ -439,14 +439,14 @@ impl Parser<'_> {
         if let Some(v) = f.get("name") {
             e.name = string(src, v, &f.path("name"))?.to_owned();
         }
-        e.position = v3("position")?;
+        e.position = v3("position", e.position)?;
         if let Some(v) = f.get("shape") {
             e.shape = shape(src, v, &f.path("shape"))?;
         }
-        e.rate = num("rate", 0.0, 0.0)?;
-        e.start = num("start", 0.0, 0.0)?;
+        e.rate = num("rate", 0.0, e.rate)?;
+        e.start = num("start", 0.0, e.start)?;
         e.duration = match f.get("duration") {
-            None => f32::INFINITY,
+            None => e.duration,
             Some(v) => {
                 let path = f.path("duration");
                 let x = float(src, v, &path)?;
@@ -478,7 +478,7 @@ impl Parser<'_> {
                 "the emitter emits nothing: give `rate` (particles per second) or `bursts`",
             ));
         }
-        e.lifetime = rng("lifetime", 0.0, Range::constant(1.0))?;
+        e.lifetime = rng("lifetime", 0.0, e.lifetime)?;
         if e.lifetime.min <= 0.0 {
             let v = f.require(src, "lifetime")?;
             return Err(src.error(
@@ -490,12 +490,12 @@ impl Parser<'_> {
         if let Some(v) = f.get("velocity") {
             e.velocity = range3(src, v, &f.path("velocity"))?;
         }
-        e.radial_speed = rng("radial_speed", f32::MIN, Range::constant(0.0))?;
-        e.size = rng("size", 0.0, Range::constant(1.0))?;
-        e.brightness = rng("brightness", 0.0, Range::constant(1.0))?;
-        e.drag = rng("drag", 0.0, Range::constant(0.0))?;
-        e.gravity = v3("gravity")?;
-        e.wind = v3("wind")?;
+        e.radial_speed = rng("radial_speed", f32::MIN, e.radial_speed)?;
+        e.size = rng("size", 0.0, e.size)?;
+        e.brightness = rng("brightness", 0.0, e.brightness)?;
+        e.drag = rng("drag", 0.0, e.drag)?;
+        e.gravity = v3("gravity", e.gravity)?;
+        e.wind = v3("wind", e.wind)?;
         if let Some(v) = f.get("turbulence") {
             let tpath = f.path("turbulence");
             let t = fields(src, v, &tpath, &["strength", "scale", "speed"])?;
@@ -551,7 +551,7 @@ impl Parser<'_> {
                 }
             };
         }
-        r.point_sprite = flag("point_sprite", true)?;
+        r.point_sprite = flag("point_sprite", r.point_sprite)?;
         if let Some(v) = f.get("point_scale") {
             let path = f.path("point_scale");
             r.point_scale = match v.get_ref() {
@@ -561,13 +561,13 @@ impl Parser<'_> {
                 _ => return Err(expected(src, v, &path, "true, false or [A, B, C]")),
             };
         }
-        r.size_min = num("size_min", 0.0, 1.0)?;
+        r.size_min = num("size_min", 0.0, r.size_min)?;
         if let Some(v) = f.get("size_max") {
             r.size_max = Some(positive(src, v, &f.path("size_max"))?);
         }
-        r.z_test = flag("z_test", true)?;
-        r.z_write = flag("z_write", false)?;
-        r.sort = flag("sort", false)?;
+        r.z_test = flag("z_test", r.z_test)?;
+        r.z_write = flag("z_write", r.z_write)?;
+        r.sort = flag("sort", r.sort)?;
         if let Some(v) = f.get("states") {
             r.states = self.emitter_states(v, &f.path("states"))?;
         }

@@ -214,9 +214,18 @@ fn emitters_are_counted_and_each_charged_whole_blocks() {
     );
     ok(&one.repeat(MAX_EMITTERS));
     // Each emitter holds whole blocks of 1024 particles: 96 KiB at least.
-    assert_eq!(crate::emitter_bytes(1), 1024 * crate::PARTICLE_BYTES);
-    assert_eq!(crate::emitter_bytes(1024), 1024 * crate::PARTICLE_BYTES);
-    assert_eq!(crate::emitter_bytes(1025), 2048 * crate::PARTICLE_BYTES);
+    assert_eq!(
+        crate::emitter_bytes(1),
+        1024 * pointillist_particles::PARTICLE_BYTES as u64
+    );
+    assert_eq!(
+        crate::emitter_bytes(1024),
+        1024 * pointillist_particles::PARTICLE_BYTES as u64
+    );
+    assert_eq!(
+        crate::emitter_bytes(1025),
+        2048 * pointillist_particles::PARTICLE_BYTES as u64
+    );
 }
 
 /// A named pipe as the scene file is refused before it is opened (opening it would wait for a

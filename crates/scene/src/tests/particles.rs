@@ -515,3 +515,87 @@ fn the_documented_example_is_the_snow_scene() {
     assert_eq!(from_doc.animation, from_file.animation);
     assert_eq!(from_doc.target, from_file.target);
 }
+
+/// The defaults docs/spec/PARTICLES.md's key tables state are what an emitter that leaves the
+/// keys out gets: `Emitter::default` and `RenderSettings::default`, which the parser starts
+/// from, are the one home of each default, and this ties the docs to them.
+#[test]
+fn the_documented_defaults_are_the_parsed_ones() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let doc = std::fs::read_to_string(root.join("docs/spec/PARTICLES.md")).unwrap();
+    let default = |key: &str| -> String {
+        let row = format!("| `{key}` |");
+        let line = doc
+            .lines()
+            .find(|l| l.starts_with(&row))
+            .unwrap_or_else(|| panic!("PARTICLES.md has no row for `{key}`"));
+        let cell = line.split('|').nth(3).unwrap().trim();
+        cell.trim_matches('`').trim_matches('"').to_owned()
+    };
+    let number = |key: &str| -> f32 {
+        let text = default(key);
+        text.parse()
+            .unwrap_or_else(|_| panic!("`{key}`: default `{text}` is not a number"))
+    };
+    let vector = |key: &str| -> [f32; 3] {
+        let text = default(key);
+        let v: Vec<f32> = text
+            .trim_matches(['[', ']'])
+            .split(',')
+            .map(|c| c.trim().parse().unwrap())
+            .collect();
+        [v[0], v[1], v[2]]
+    };
+    let flag = |key: &str| -> bool { default(key).parse().unwrap() };
+
+    let s = ok("[[emitter]]\nrate = 1\n");
+    let e = &s.emitters[0].emitter;
+    assert_eq!(e.start, number("start"));
+    assert_eq!(default("duration"), "inf");
+    assert_eq!(e.duration, f32::INFINITY);
+    for (key, range) in [
+        ("lifetime", e.lifetime),
+        ("radial_speed", e.radial_speed),
+        ("size", e.size),
+        ("brightness", e.brightness),
+        ("drag", e.drag),
+    ] {
+        assert_eq!(range, Range::constant(number(key)), "`{key}`");
+    }
+    assert_eq!(e.velocity, Range3::constant(vector("velocity")));
+    for (key, v) in [
+        ("position", e.position),
+        ("gravity", e.gravity),
+        ("wind", e.wind),
+    ] {
+        assert_eq!(v, vector(key), "`{key}`");
+    }
+    let t = Turbulence {
+        strength: number("turbulence.strength"),
+        scale: number("turbulence.scale"),
+        speed: number("turbulence.speed"),
+    };
+    let turbulence = ok("[[emitter]]\nrate = 1\nturbulence = {}\n").emitters[0]
+        .emitter
+        .turbulence;
+    assert_eq!(turbulence, t);
+    assert_eq!(default("turbulence"), "off");
+    assert_eq!(
+        e.turbulence.strength, 0.0,
+        "no turbulence without the table"
+    );
+
+    let r = &e.render;
+    assert_eq!(r.blend, BlendMode::from_name(&default("blend")).unwrap());
+    assert_eq!(r.filter, TextureFilter::Linear);
+    assert_eq!(default("filter"), "LINEAR");
+    assert_eq!(r.size_min, number("size_min"));
+    for (key, v) in [
+        ("point_sprite", r.point_sprite),
+        ("z_test", r.z_test),
+        ("z_write", r.z_write),
+        ("sort", r.sort),
+    ] {
+        assert_eq!(v, flag(key), "`{key}`");
+    }
+}
