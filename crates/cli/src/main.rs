@@ -7,15 +7,18 @@
 //! makes it panic.
 //!
 //! This file holds the argument grammar and the dispatch; [`render`], [`animate`], `view` (with
-//! the `viewer` feature), [`caps`], [`bench`](mod@bench) and [`conform`] (`export-calls` and
+//! the `viewer` feature), [`caps`], `bench` (with the `bench` feature) and [`conform`] (`export-calls` and
 //! `conform`) do the work.
 
 mod animate;
 mod backend;
 mod behaviours;
+#[cfg(feature = "bench")]
 mod bench;
+mod bench_args;
 mod caps;
 mod conform;
+#[cfg(feature = "bench")]
 mod end_to_end;
 mod interrupt;
 mod render;
@@ -136,8 +139,8 @@ enum Command {
     #[command(long_about = VIEW_LONG_ABOUT, after_help = VIEW_EXAMPLES)]
     View(ViewArgs),
     /// Time the performance workloads W1-W4, optionally beside Mesa llvmpipe.
-    #[command(long_about = bench::LONG_ABOUT)]
-    Bench(bench::BenchArgs),
+    #[command(long_about = bench_args::LONG_ABOUT)]
+    Bench(bench_args::BenchArgs),
     /// Write a scene's D3D9 calls as a call stream for a replayer (docs/CONFORMANCE.md).
     #[command(long_about = EXPORT_LONG_ABOUT, after_help = EXPORT_EXAMPLES)]
     ExportCalls(ExportCallsArgs),
@@ -596,6 +599,22 @@ fn profile_help() -> String {
     )
 }
 
+/// Runs `pointillist bench`.
+#[cfg(feature = "bench")]
+fn bench(args: &bench_args::BenchArgs) -> Result<(), String> {
+    bench::run(args)
+}
+
+/// Explains how to get `pointillist bench` in a build without the benchmarks.
+#[cfg(not(feature = "bench"))]
+fn bench(_: &bench_args::BenchArgs) -> Result<(), String> {
+    Err(
+        "this pointillist was built without the benchmarks; rebuild with \
+         `cargo build --release -p pointillist-cli --features bench`"
+            .to_string(),
+    )
+}
+
 /// Runs `pointillist view`, or explains how to get it in a build without the viewer.
 #[cfg(feature = "viewer")]
 fn view(args: &ViewArgs) -> Result<(), String> {
@@ -680,7 +699,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Render(args) => render::run(args),
         Command::Caps(args) => caps::run(args),
-        Command::Bench(args) => bench::run(args),
+        Command::Bench(args) => bench(args),
         Command::Animate(args) => animate::run(args),
         Command::View(args) => view(args),
         Command::ExportCalls(args) => conform::run_export(args),
