@@ -49,19 +49,9 @@ pub struct Exported {
 /// The frame of `scene` a command draws: `frame` (default 0) for a scene that moves or when a
 /// frame is asked for, `None` for a still scene; an error when the frame is past the last.
 pub fn frame_of(scene: &Scene, frame: Option<u32>) -> Result<Option<u32>, String> {
-    if !scene.is_animated() && frame.is_none() {
-        return Ok(None);
-    }
-    let frame = frame.unwrap_or(0);
-    let frames = scene.animation.frames;
-    if frame >= frames {
-        return Err(format!(
-            "{}: --frame {frame} is outside 0..={} ([animation] frames = {frames})",
-            scene.file.display(),
-            frames - 1
-        ));
-    }
-    Ok(Some(frame))
+    scene
+        .frame_to_draw(frame, "--frame")
+        .map_err(|e| format!("{}: {e}", scene.file.display()))
 }
 
 /// The D3DTRANSFORMSTATETYPE of a transform.

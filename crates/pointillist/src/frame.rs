@@ -56,19 +56,14 @@ pub fn render<B: Backend>(
     let mut device =
         Device::new(backend, desc).map_err(|e| format!("{name}: cannot create the device: {e}"))?;
     let mut particles = None;
-    if scene.is_animated() || request.frame.is_some() {
-        let frame = request.frame.unwrap_or(0);
-        let frames = scene.animation.frames;
-        if frame >= frames {
-            let arg = match request.frame_arg {
-                "" => "frame",
-                arg => arg,
-            };
-            return Err(format!(
-                "{name}: {arg} {frame} is outside 0..={} ([animation] frames = {frames})",
-                frames - 1
-            ));
-        }
+    let arg = match request.frame_arg {
+        "" => "frame",
+        arg => arg,
+    };
+    let frame = scene
+        .frame_to_draw(request.frame, arg)
+        .map_err(|e| format!("{name}: {e}"))?;
+    if let Some(frame) = frame {
         let mut system = scene.particle_system().map_err(|e| e.to_string())?;
         let mut buffers = DrawBuffers::new();
         scene

@@ -587,6 +587,25 @@ impl Scene {
         !self.emitters.is_empty() || self.animation.camera.is_some() || self.animation.frames > 1
     }
 
+    /// The frame a command draws when asked for `frame`: the frame (0 by default) for a scene
+    /// that moves or when a frame is asked for, `None` for a still scene. A frame past the last
+    /// is refused with the message's tail, `{arg} N is outside 0..=LAST ([animation] frames =
+    /// COUNT)`, `arg` naming the argument as the caller's user gave it (`--frame`, `frame`).
+    pub fn frame_to_draw(&self, frame: Option<u32>, arg: &str) -> Result<Option<u32>, String> {
+        if !self.is_animated() && frame.is_none() {
+            return Ok(None);
+        }
+        let frame = frame.unwrap_or(0);
+        let frames = self.animation.frames;
+        if frame >= frames {
+            return Err(format!(
+                "{arg} {frame} is outside 0..={} ([animation] frames = {frames})",
+                frames - 1
+            ));
+        }
+        Ok(Some(frame))
+    }
+
     /// A new particle system of the scene's emitters (none is fine), seeded and stepped as
     /// `[animation]` says, at time 0.
     pub fn particle_system(&self) -> Result<ParticleSystem, SceneError> {
