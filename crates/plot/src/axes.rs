@@ -85,6 +85,32 @@ impl Axis {
     }
 }
 
+impl Axis {
+    /// Pixels per data unit, `None` for pixel coordinates.
+    pub fn scale(self) -> Option<f64> {
+        match self {
+            Axis::Pixels => None,
+            Axis::Increasing { scale, .. } | Axis::Decreasing { scale, .. } => Some(scale),
+        }
+    }
+}
+
+/// How a point's size becomes pixels: as it is (`size_units="pixels"`), or times x's scale
+/// (`"data"`), in f64 and rounded once to f32 as the positions are.
+#[derive(Copy, Clone, Debug, PartialEq, Default)]
+pub struct SizeMap(pub Option<f64>);
+
+impl SizeMap {
+    /// The size in pixels of size `s`.
+    #[inline]
+    pub fn map(self, s: f64) -> f32 {
+        match self.0 {
+            None => s as f32,
+            Some(scale) => (s * scale) as f32,
+        }
+    }
+}
+
 /// `pixels / (hi - lo)`, refusing ranges that are not finite or not increasing.
 fn scale(r: DataRange, pixels: u32, name: &'static str) -> Result<f64, PlotError> {
     let span = r.hi - r.lo;

@@ -9,7 +9,7 @@ use pointillist_core::fvf::Fvf;
 use rayon::prelude::*;
 
 use crate::PlotError;
-use crate::axes::Axis;
+use crate::axes::{Axis, SizeMap};
 
 /// Vertices written per task when a block is written in parallel.
 const TASK_VERTICES: usize = 4096;
@@ -182,6 +182,7 @@ impl Layout {
 pub(crate) fn write_vertices(
     points: &Points<'_>,
     axes: (Axis, Axis),
+    sizes: SizeMap,
     first_row: usize,
     out: &mut [u32],
 ) -> Result<(), PlotError> {
@@ -192,7 +193,7 @@ pub(crate) fn write_vertices(
         .map(|(task, block)| {
             let start = task * TASK_VERTICES;
             let part = points.rows(start..start + block.len() / stride);
-            write_block(&part, axes, stride, block)
+            write_block(&part, axes, sizes, stride, block)
         })
         .reduce(|| false, |a, b| a | b);
     if nan {
@@ -202,7 +203,13 @@ pub(crate) fn write_vertices(
 }
 
 /// One block, column by column; true when some value was NaN.
-fn write_block(p: &Points<'_>, (ax, ay): (Axis, Axis), stride: usize, out: &mut [u32]) -> bool {
+fn write_block(
+    p: &Points<'_>,
+    (ax, ay): (Axis, Axis),
+    sizes: SizeMap,
+    stride: usize,
+    out: &mut [u32],
+) -> bool {
     let mut nan = write_column(p.x, out, stride, 0, |v| ax.map(v));
     nan |= write_column(p.y, out, stride, 1, |v| ay.map(v));
     match p.z {
@@ -213,7 +220,7 @@ fn write_block(p: &Points<'_>, (ax, ay): (Axis, Axis), stride: usize, out: &mut 
         .for_each(|w| w[3] = 1.0f32.to_bits());
     let color = stride - 1;
     if let Sizes::PerPoint(s) = p.size {
-        nan |= write_column(s, out, stride, 4, |v| v as f32);
+        nan |= write_column(s, out, stride, 4, |v| sizes.map(v));
     }
     let words = out.chunks_exact_mut(stride);
     match p.color {

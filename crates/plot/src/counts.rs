@@ -30,7 +30,7 @@ use pointillist_core::point::PointSetup;
 use pointillist_lanes::SimdLevel;
 use rayon::prelude::*;
 
-use crate::axes::Axis;
+use crate::axes::{Axis, SizeMap};
 use crate::columns::{self, Colors, Column, Points, Sizes};
 use crate::{Plot, PlotError};
 
@@ -72,7 +72,7 @@ pub(crate) fn counted(plot: &Plot, points: &Points<'_>) -> Option<[u32; 256]> {
     let Colors::Constant(colour) = points.color else {
         return None;
     };
-    if plot.texture.is_some() || points.z.is_some() {
+    if plot.textured() || points.z.is_some() {
         return None;
     }
     let sides = 1..=MAX_TARGET_SIZE;
@@ -110,7 +110,13 @@ pub(crate) fn count_into(
         .min(n / MIN_POINTS_A_IMAGE)
         .min(1 + EXTRA_IMAGE_BYTES / pixels.max(1))
         .max(1);
-    let counter = Counter::new(&setup.points, plot.axes()?, plot.width, points);
+    let counter = Counter::new(
+        &setup.points,
+        plot.axes()?,
+        plot.size_map(),
+        plot.width,
+        points,
+    );
     if images == 1 {
         let nan = (0..n)
             .step_by(TASK_POINTS)
@@ -216,6 +222,8 @@ fn table(setup: &DrawSetup<'_>, clear: u32, colour: u32) -> Option<[u32; 256]> {
 struct Counter<'a> {
     setup: &'a PointSetup,
     axes: (Axis, Axis),
+    /// What the per-point sizes are measured in.
+    sizes: SizeMap,
     width: u32,
     points: &'a Points<'a>,
     /// SPEC 3.1 for the plot's vertices (Z 0, RHW 1): false drops every point.
@@ -227,10 +235,17 @@ struct Counter<'a> {
 }
 
 impl<'a> Counter<'a> {
-    fn new(setup: &'a PointSetup, axes: (Axis, Axis), width: u32, points: &'a Points<'a>) -> Self {
+    fn new(
+        setup: &'a PointSetup,
+        axes: (Axis, Axis),
+        sizes: SizeMap,
+        width: u32,
+        points: &'a Points<'a>,
+    ) -> Self {
         Counter {
             setup,
             axes,
+            sizes,
             width,
             points,
             kept: setup.keeps_pretransformed(0.0, 1.0),
@@ -276,7 +291,7 @@ impl<'a> Counter<'a> {
         }
         let size = match si {
             // SPEC 2.1: Si is the vertex's PSIZE where the format has it and the caps honour it.
-            Some(si) if self.setup.uses_vertex_size() => self.setup.size(si as f32, 0.0),
+            Some(si) if self.setup.uses_vertex_size() => self.setup.size(self.sizes.map(si), 0.0),
             _ => self.size,
         };
         let (x, y) = (self.axes.0.map(x), self.axes.1.map(y));
@@ -523,7 +538,7 @@ mod tests {
                     for level in SimdLevel::available() {
                         let counter = Counter {
                             level,
-                            ..Counter::new(&setup.points, axes, w, &points)
+                            ..Counter::new(&setup.points, axes, plot.size_map(), w, &points)
                         };
                         let n = px.len();
                         for first in (0..n).step_by(PASS_POINTS) {

@@ -35,6 +35,7 @@ pub mod axes;
 mod blend;
 mod columns;
 mod counts;
+pub mod marker;
 pub mod tiles;
 
 use std::fmt;
@@ -47,14 +48,15 @@ use pointillist_core::device::{
 };
 use pointillist_core::point::PixelRect;
 use pointillist_core::states::{
-    RenderState, SamplerState, TA_CURRENT, TA_TEXTURE, TextureAddress, TextureFilter, TextureOp,
-    TextureStageState,
+    Cmp, RenderState, SamplerState, TA_CURRENT, TA_TEXTURE, TextureAddress, TextureFilter,
+    TextureOp, TextureStageState,
 };
 use pointillist_core::texture::Texture;
 
-pub use axes::{Axis, DataRange};
+pub use axes::{Axis, DataRange, SizeMap};
 pub use blend::Blend;
 pub use columns::{Colors, Column, Layout, Points, Sizes};
+pub use marker::{Marker, SizeUnits};
 
 /// Vertices drawn per draw call: a block of the points is written, drawn, and its buffer
 /// reused for the next, so memory does not grow with the points.
@@ -169,6 +171,11 @@ pub struct Plot {
     pub y_range: Option<DataRange>,
     /// A texture every point shows as a sprite (POINTSPRITEENABLE), modulated by its colour.
     pub texture: Option<Arc<Texture>>,
+    /// The shape of each point ([`marker`]); a circle is a sprite of its own, so it cannot
+    /// have a `texture` too.
+    pub marker: Marker,
+    /// What the sizes are measured in ([`marker`]); data units need both ranges.
+    pub size_units: SizeUnits,
     /// The device behaviour switches the draw runs with (SPEC "Device behaviours"): every
     /// path (device, counts, partial images, tiles) draws with them.
     pub behaviours: Behaviours,
@@ -185,7 +192,35 @@ impl Plot {
             x_range: None,
             y_range: None,
             texture: None,
+            marker: Marker::Square,
+            size_units: SizeUnits::Pixels,
             behaviours: Behaviours::default(),
+        }
+    }
+
+    /// How sizes become pixels: [`SizeUnits::Data`] takes x's scale (the axes' one formula);
+    /// without an x range (which [`Plot::check`] refuses) sizes stay pixels.
+    pub fn size_map(&self) -> SizeMap {
+        match self.size_units {
+            SizeUnits::Pixels => SizeMap(None),
+            SizeUnits::Data => SizeMap(
+                Axis::x(self.x_range, self.width, "x_range")
+                    .ok()
+                    .and_then(Axis::scale),
+            ),
+        }
+    }
+
+    /// Whether the points are sprites showing a texture: the plot's, or a circle's disc.
+    pub fn textured(&self) -> bool {
+        self.texture.is_some() || self.marker == Marker::Circle
+    }
+
+    /// The texture of stage 0: the plot's, or the disc of a circle marker.
+    pub fn sprite(&self) -> Option<Arc<Texture>> {
+        match self.marker {
+            Marker::Circle => Some(Arc::new(marker::disc(self.blend))),
+            Marker::Square => self.texture.clone(),
         }
     }
 
@@ -212,11 +247,18 @@ impl Plot {
             .max_point_size;
         states.push((RenderState::POINTSIZE_MAX, largest.to_bits()));
         if let Some(size) = layout.size {
+            let size = self.size_map().map(f64::from(size));
             states.push((RenderState::POINTSIZE, size.to_bits()));
         }
         states.push((RenderState::ZENABLE, u32::from(layout.depth)));
-        if self.texture.is_some() {
+        if self.textured() {
             states.push((RenderState::POINTSPRITEENABLE, 1));
+        }
+        if self.marker == Marker::Circle && self.blend == Blend::Replace {
+            // The last point wins only where its disc covers at least half a texel.
+            states.push((RenderState::ALPHATESTENABLE, 1));
+            states.push((RenderState::ALPHAREF, 128));
+            states.push((RenderState::ALPHAFUNC, Cmp::GreaterEqual as u32));
         }
         states
     }
@@ -225,7 +267,7 @@ impl Plot {
     /// point's (MODULATE of TEXTURE and CURRENT). Nothing without a texture (stage 0's defaults
     /// pass the point's colour through).
     pub fn stage_states(&self) -> Vec<(TextureStageState, u32)> {
-        if self.texture.is_none() {
+        if !self.textured() {
             return Vec::new();
         }
         vec![
@@ -238,17 +280,22 @@ impl Plot {
         ]
     }
 
-    /// Sampler 0's states with a texture: linear filtering, clamped addresses.
+    /// Sampler 0's states with a texture: linear filtering, clamped addresses; a circle's disc
+    /// is also filtered between its mip levels (MIPFILTER LINEAR).
     pub fn sampler_states(&self) -> Vec<(SamplerState, u32)> {
-        if self.texture.is_none() {
+        if !self.textured() {
             return Vec::new();
         }
-        vec![
+        let mut states = vec![
             (SamplerState::MINFILTER, TextureFilter::Linear as u32),
             (SamplerState::MAGFILTER, TextureFilter::Linear as u32),
             (SamplerState::ADDRESSU, TextureAddress::Clamp as u32),
             (SamplerState::ADDRESSV, TextureAddress::Clamp as u32),
-        ]
+        ];
+        if self.marker == Marker::Circle {
+            states.push((SamplerState::MIPFILTER, TextureFilter::Linear as u32));
+        }
+        states
     }
 
     /// Sets every state of a draw of `layout` on `device` and binds the texture.
@@ -266,7 +313,7 @@ impl Plot {
         for (s, v) in self.sampler_states() {
             device.set_sampler_state(0, s, v)?;
         }
-        device.set_texture(0, self.texture.clone())?;
+        device.set_texture(0, self.sprite())?;
         Ok(())
     }
 
@@ -357,6 +404,25 @@ impl Plot {
         Ok(out)
     }
 
+    /// Checks that the marker and the size units go with the rest of the plot: a circle is a
+    /// sprite of its own (no `texture`), data units need both ranges.
+    pub fn check_marker(&self) -> Result<(), PlotError> {
+        if self.marker == Marker::Circle && self.texture.is_some() {
+            return Err(PlotError::Value(
+                "marker=\"circle\" draws its own disc sprite; give texture=None (a texture \
+                 is drawn on squares)"
+                    .into(),
+            ));
+        }
+        if self.size_units == SizeUnits::Data && (self.x_range.is_none() || self.y_range.is_none())
+        {
+            return Err(PlotError::Value(
+                "size_units=\"data\" measures sizes along x_range: give x_range and y_range".into(),
+            ));
+        }
+        Ok(())
+    }
+
     /// Checks the target size and the scalar arguments.
     pub fn check(&self, points: &Points<'_>) -> Result<usize, PlotError> {
         if let Sizes::Constant(s) = points.size
@@ -364,6 +430,7 @@ impl Plot {
         {
             return Err(PlotError::Value("size is NaN".into()));
         }
+        self.check_marker()?;
         self.axes()?;
         points.count()
     }
@@ -408,13 +475,14 @@ impl Plot {
     ) -> Result<(), PlotError> {
         let n = self.check(points)?;
         let axes = self.axes()?;
+        let sizes = self.size_map();
         let layout = points.layout();
         let stride = layout.stride();
         let mut words = vec![0u32; n.min(BLOCK_VERTICES) * stride];
         for start in (0..n).step_by(BLOCK_VERTICES) {
             let end = n.min(start + BLOCK_VERTICES);
             let block = &mut words[..(end - start) * stride];
-            columns::write_vertices(&points.rows(start..end), axes, start, block)?;
+            columns::write_vertices(&points.rows(start..end), axes, sizes, start, block)?;
             device.draw_point_list(layout.fvf(), bytemuck::cast_slice(block))?;
         }
         Ok(())

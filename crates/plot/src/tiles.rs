@@ -125,7 +125,13 @@ impl Plot {
         for start in (0..n).step_by(BLOCK_VERTICES) {
             let end = n.min(start + BLOCK_VERTICES);
             let block = &mut words[..(end - start) * stride];
-            write_vertices(&points.rows(start..end), axes, start, block)?;
+            write_vertices(
+                &points.rows(start..end),
+                axes,
+                self.size_map(),
+                start,
+                block,
+            )?;
             let bytes: &[u8] = bytemuck::cast_slice(block);
             for (k, vertex) in block.chunks_exact(stride).enumerate() {
                 let Some(p) = setup.process(bytes, k as u32) else {

@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use pointillist_core::behaviour::Behaviours;
-use pointillist_plot::{Blend, DataRange, Plot};
+use pointillist_plot::{Blend, DataRange, Marker, Plot, SizeUnits};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -83,8 +83,8 @@ impl PyPlot {
     /// every function that draws takes this one object instead of them.
     #[new]
     #[pyo3(
-        signature = (width, height, blend=Given::Default, x_range=None, y_range=None, clear=Given::Default, texture=None, behaviour=None, backend=Given::Default),
-        text_signature = "(width, height, blend='add', x_range=None, y_range=None, clear=0xFF000000, texture=None, behaviour=None, backend='cpu')"
+        signature = (width, height, blend=Given::Default, x_range=None, y_range=None, clear=Given::Default, texture=None, behaviour=None, backend=Given::Default, marker=Given::Default, size_units=Given::Default),
+        text_signature = "(width, height, blend='add', x_range=None, y_range=None, clear=0xFF000000, texture=None, behaviour=None, backend='cpu', marker='square', size_units='pixels')"
     )]
     #[allow(clippy::too_many_arguments)] // the one place the plot's arguments are listed
     fn new(
@@ -97,6 +97,8 @@ impl PyPlot {
         texture: Option<&Bound<'_, PyAny>>,
         behaviour: Option<&Bound<'_, PyAny>>,
         backend: Given<'_>,
+        marker: Given<'_>,
+        size_units: Given<'_>,
     ) -> PyResult<Self> {
         // The target's size first, before anything is allocated.
         let (width, height) = arrays::target_size(width, height)?;
@@ -125,6 +127,21 @@ impl PyPlot {
                 (Some(texels), Some(copy.unbind()))
             }
         };
+        let marker = match marker {
+            Given::Default => Marker::Square,
+            Given::Value(m) => {
+                let name: String = arrays::arg("marker", &m, r#"a string ("square" or "circle")"#)?;
+                Marker::from_name(&name).map_err(plot_error)?
+            }
+        };
+        let size_units = match size_units {
+            Given::Default => SizeUnits::Pixels,
+            Given::Value(u) => {
+                let expected = r#"a string ("pixels" or "data")"#;
+                let name: String = arrays::arg("size_units", &u, expected)?;
+                SizeUnits::from_name(&name).map_err(plot_error)?
+            }
+        };
         let plot = Plot {
             behaviours: crate::behaviour::behaviours(behaviour)?,
             width,
@@ -134,8 +151,11 @@ impl PyPlot {
             x_range: data_range("x_range", x_range)?,
             y_range: data_range("y_range", y_range)?,
             texture: texels,
+            marker,
+            size_units,
         };
         plot.axes().map_err(plot_error)?;
+        plot.check_marker().map_err(plot_error)?;
         Ok(PyPlot {
             plot,
             backend,
@@ -204,6 +224,18 @@ impl PyPlot {
         &self.backend
     }
 
+    /// The marker's name: "square" or "circle".
+    #[getter]
+    fn marker(&self) -> &'static str {
+        self.plot.marker.name()
+    }
+
+    /// What sizes are measured in: "pixels" or "data" (x's data units).
+    #[getter]
+    fn size_units(&self) -> &'static str {
+        self.plot.size_units.name()
+    }
+
     /// `(Plot, arguments)`: a pickled `Plot` is made again, and checked again, from the
     /// values it holds.
     fn __reduce__<'py>(
@@ -221,6 +253,8 @@ impl PyPlot {
             p.texture(py),
             p.behaviour(py)?,
             p.backend.as_str(),
+            p.marker(),
+            p.size_units(),
         )
             .into_pyobject(py)?;
         Ok((slf.get_type().into_any(), args))
@@ -250,14 +284,16 @@ impl PyPlot {
         };
         format!(
             "Plot({}, {}, blend='{}', x_range={}, y_range={}, clear=0x{:08X}, texture={texture}, \
-             behaviour={behaviour}, backend='{}')",
+             behaviour={behaviour}, backend='{}', marker='{}', size_units='{}')",
             self.plot.width,
             self.plot.height,
             self.plot.blend.name(),
             range(self.x_range()),
             range(self.y_range()),
             self.plot.clear,
-            self.backend
+            self.backend,
+            self.plot.marker.name(),
+            self.plot.size_units.name()
         )
     }
 }

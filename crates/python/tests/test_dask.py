@@ -376,3 +376,18 @@ def test_colour_from_values_equals_one_draw(client, persist):
     with pytest.raises(TypeError, match=r"^color: column 'k' holds categories; on Dask give "
                        r"color_key"):
         pointillist.dask.points(df, "x", "y", color="k", cmap="fire", client=client, **kw)
+
+
+@pytest.mark.parametrize("blend", ["alpha", "add"])
+def test_circles_in_data_units_are_exact_on_the_cluster(client, blend):
+    """Circles (a textured sprite) sized in data units: tiles for "alpha", partial images for
+    "add", both bit for bit the single-process draw."""
+    pdf, df = frame(3000, 17, 4)
+    pdf["s"] = (pdf["s"] / 200).astype(np.float32)
+    df = dd.from_pandas(pdf, npartitions=4, sort=False)
+    got, want = both(
+        pdf, df, client, size="s", color="c", width=W, height=H, blend=blend,
+        x_range=(0, 1), y_range=(0, 1), marker="circle", size_units="data", tile_size=32,
+    )
+    assert np.array_equal(got, want)
+    assert (np.asarray(want)[..., 3] > 0).sum() > 1000

@@ -45,7 +45,7 @@ def test_fields_and_defaults():
     assert repr(q) == (
         "Plot(40, 30, blend='alpha', x_range=(0.0, 2.0), y_range=(-1.0, 1.5), "
         "clear=0x10203040, texture=<7x5 texture>, behaviour={'minimum_size': 'one_pixel'}, "
-        "backend='cpu')"
+        "backend='cpu', marker='square', size_units='pixels')"
     )
 
 

@@ -44,6 +44,8 @@ if TYPE_CHECKING:
     from ._native import _Backend as Backend
     from ._native import _Behaviour as Behaviour
     from ._native import _Blend as Blend
+    from ._native import _Marker as Marker
+    from ._native import _SizeUnits as SizeUnits
 
 #: A column argument: anything numpy turns into a 1-D array of numbers.
 Column = npt.ArrayLike
@@ -85,6 +87,8 @@ def points(
     vmin: Optional[float] = None,
     vmax: Optional[float] = None,
     color_key: Optional[Mapping[Any, Any]] = None,
+    marker: Marker = "square",
+    size_units: SizeUnits = "pixels",
 ) -> Image:
     """Draw one point sprite per row of ``x, y`` and return the image.
 
@@ -118,8 +122,11 @@ def points(
         y downwards). C-contiguous float32 and float64 arrays are read in place, without a
         copy; other dtypes are converted once.
     size : float, 1-D array or column name, default 1.0
-        Side of each square in pixels, exact (not rounded; a square covering no pixel centre
-        draws nothing), clamped to 0..8192.
+        Side of each square (diameter of each circle) in pixels, exact (not rounded; a square
+        covering no pixel centre draws nothing), clamped to 0..8192; in x's data units with
+        ``size_units="data"``. matplotlib's ``scatter(s=...)`` is an area in points squared:
+        ``size = sqrt(s) * dpi / 72`` pixels draws the same side (docs/PYTHON.md, "Markers
+        and sizes").
     color : int, 1-D uint32 array, (n, 4) uint8 array or column name, default 0xFFFFFFFF
         D3DCOLORs 0xAARRGGBB, or RGBA bytes per point; read in place.
     z : 1-D array, column name or None
@@ -156,6 +163,18 @@ def points(
         with ``cmap`` as datashader's ``tf.shade`` does (``how`` "eq_hist" by default), the
         pixels no point covers left ``clear``.
 
+    marker : {"square", "circle"}, default "square"
+        "square": the D3D9 point. "circle": the same square drawn as a point sprite showing an
+        antialiased disc (a 64x64 texture and its mip chain, sampled trilinearly, multiplied
+        by the point's colour); with "alpha" the disc's coverage is the alpha, with "add" and
+        "max" it scales the colour, with "replace" the alpha test keeps the texels at least
+        half covered. Not with ``texture``, and never counted (so not shaded by counts).
+    size_units : {"pixels", "data"}, default "pixels"
+        "data": ``size`` in units of x's data range, ``pixels = size * width / (x_hi -
+        x_lo)`` (the scale of the formula that maps x, in float64, rounded once to float32);
+        needs ``x_range`` and ``y_range``. With unequal scales a point stays round or square
+        on the screen, its side measured along x.
+
     Returns
     -------
     Image
@@ -191,6 +210,8 @@ def points(
         texture=texture,
         behaviour=behaviour,
         backend=backend,
+        marker=marker,
+        size_units=size_units,
     )
     shading = any(v is not None for v in (cmap, how, vmin, vmax, color_key))
     shade: dict[str, Any] = dict(cmap=cmap, how=how, vmin=vmin, vmax=vmax)

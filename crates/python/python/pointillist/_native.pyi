@@ -44,6 +44,8 @@ __all__ = [
 
 _Blend: TypeAlias = Literal["add", "alpha", "max", "replace"]
 _Backend: TypeAlias = Literal["cpu", "gpu"]
+_Marker: TypeAlias = Literal["square", "circle"]
+_SizeUnits: TypeAlias = Literal["pixels", "data"]
 _Behaviour: TypeAlias = Optional[dict[str, str]]
 _Range: TypeAlias = Optional[Tuple[float, float]]
 _Column: TypeAlias = npt.ArrayLike
@@ -80,6 +82,8 @@ class Plot:
         texture: Optional[npt.ArrayLike] = None,
         behaviour: _Behaviour = None,
         backend: _Backend = "cpu",
+        marker: _Marker = "square",
+        size_units: _SizeUnits = "pixels",
     ) -> "Plot": ...
     @property
     def width(self) -> int:
@@ -111,6 +115,12 @@ class Plot:
     @property
     def commutes(self) -> bool:
         """Whether the blend's result is independent of the order of the points."""
+    @property
+    def marker(self) -> _Marker:
+        """The marker's name."""
+    @property
+    def size_units(self) -> _SizeUnits:
+        """What sizes are measured in: pixels, or x's data units."""
     def __reduce__(self) -> Tuple[type["Plot"], tuple]: ...
 
 def points(

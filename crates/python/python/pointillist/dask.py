@@ -62,6 +62,8 @@ from ._native import Plot
 if TYPE_CHECKING:
     from ._native import _Behaviour as Behaviour
     from ._native import _Blend as Blend
+    from ._native import _Marker as Marker
+    from ._native import _SizeUnits as SizeUnits
 
 __all__ = ["points"]
 
@@ -90,6 +92,8 @@ def points(
     vmin: Optional[float] = None,
     vmax: Optional[float] = None,
     color_key: Optional[Mapping[Any, Any]] = None,
+    marker: Marker = "square",
+    size_units: SizeUnits = "pixels",
 ) -> Image:
     """Draw the rows of Dask DataFrame ``df`` on a ``dask.distributed`` cluster, exactly.
 
@@ -104,12 +108,13 @@ def points(
     x, y : str
         Column names of the positions.
     size : str or float
-        A column of sizes in pixels, or one size for every point.
+        A column of sizes in pixels (in x's data units with ``size_units="data"``), or one size
+        for every point.
     color : str or int
         A column of uint32 D3DCOLORs (0xAARRGGBB), or one D3DCOLOR.
     z : str or None
         A column of depths in 0..1: the depth test is on (and the tile strategy is used).
-    width, height, blend, x_range, y_range, clear, texture, behaviour
+    width, height, blend, x_range, y_range, clear, texture, behaviour, marker, size_units
         As in :func:`pointillist.points`; every partition and tile draws with the same
         device behaviour switches.
     tile_size : int or (int, int)
@@ -142,7 +147,7 @@ def points(
     # Plot, pickled.
     plot = Plot(
         width, height, blend=blend, x_range=x_range, y_range=y_range, clear=clear,
-        texture=texture, behaviour=behaviour,
+        texture=texture, behaviour=behaviour, marker=marker, size_units=size_units,
     )
     sides: Any = (tile_size, tile_size) if numpy.ndim(tile_size) == 0 else tile_size
     tw, th = sides
