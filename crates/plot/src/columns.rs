@@ -220,7 +220,11 @@ fn write_block(
         .for_each(|w| w[3] = 1.0f32.to_bits());
     let color = stride - 1;
     if let Sizes::PerPoint(s) = p.size {
-        nan |= write_column(s, out, stride, 4, |v| sizes.map(v));
+        // One loop per unit, so that pixel sizes take no branch a value.
+        nan |= match sizes {
+            SizeMap(None) => write_column(s, out, stride, 4, |v| v as f32),
+            SizeMap(Some(_)) => write_column(s, out, stride, 4, |v| sizes.map(v)),
+        };
     }
     let words = out.chunks_exact_mut(stride);
     match p.color {
