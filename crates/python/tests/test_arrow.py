@@ -109,6 +109,29 @@ def test_polars_frame_equals_the_arrays():
                            np.arange(50, dtype=np.float64) % 7, size=2.0, width=40, height=9))
 
 
+
+def test_duckdb_result_equals_the_arrays():
+    """A DuckDB relation speaks __arrow_c_stream__: drawn by column names (its rows in the
+    query's order), and coloured from a column's values, it is the arrays' draw."""
+    duckdb = pytest.importorskip("duckdb")
+    cols = columns(700)
+    con = duckdb.connect()
+    con.register("pts", pa.table({**cols, "i": np.arange(700)}))
+    rel = con.sql("select lon, lat, s, c, lon * lat as v from pts")
+    assert np.array_equal(pointillist.points(rel, **NAMES, blend="alpha", **KW),
+                          from_arrays(cols, blend="alpha"))
+    shaded = dict(width=53, height=41, x_range=(-1, 1), y_range=(-1, 1), cmap="viridis",
+                  blend="alpha")
+    by_name = pointillist.points(con.sql("select lon, lat, lon * lat as v from pts"),
+                                 x="lon", y="lat", color="v", **shaded)
+    by_array = pointillist.points(cols["lon"], cols["lat"],
+                                  color=cols["lon"] * cols["lat"].astype(np.float64), **shaded)
+    assert np.array_equal(by_name, by_array)
+    with pytest.raises(ValueError, match="lat.* null at row 3"):
+        pointillist.points(
+            con.sql("select lon, case when i = 3 then null else lat end as lat from pts"),
+            x="lon", y="lat", width=8, height=8)
+
 def test_nulls_name_the_argument_column_and_row():
     cols = columns(500)
     for column, arg in (("lon", "x"), ("lat", "y"), ("s", "size"), ("c", "color"),
