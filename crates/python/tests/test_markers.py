@@ -140,3 +140,24 @@ def test_the_plot_keeps_and_pickles_marker_and_units():
     assert "marker='circle'" in repr(plot) and "size_units='data'" in repr(again)
     default = pointillist.Plot(8, 8)
     assert (default.marker, default.size_units) == ("square", "pixels")
+
+
+@pytest.mark.parametrize("kind", ["pandas", "polars"])
+def test_frames_draw_colormapped_circles_by_column_names(kind):
+    """The issue's picture: a pandas and a polars frame drawn by column names with a colormap
+    and round markers sized in data units, each the same as the arrays' draw."""
+    rng = np.random.default_rng(11)
+    cols = {"lon": rng.uniform(0, 1, 800), "lat": rng.uniform(0, 1, 800),
+            "r": rng.uniform(0.01, 0.04, 800), "v": rng.normal(0, 1, 800)}
+    if kind == "polars":
+        frame = pytest.importorskip("polars").DataFrame(cols)
+    else:
+        frame = pd.DataFrame(cols)
+    kw = dict(width=W, height=H, x_range=(0, 1), y_range=(0, 1), marker="circle",
+              size_units="data", blend="alpha", cmap="viridis", how="eq_hist")
+    got = pointillist.points(frame, x="lon", y="lat", size="r", color="v", **kw)
+    want = pointillist.points(cols["lon"], cols["lat"], size=cols["r"], color=cols["v"], **kw)
+    assert np.array_equal(got, want)
+    rgb = np.asarray(got)[..., :3].reshape(-1, 3)
+    assert len(np.unique(rgb, axis=0)) > 50, "colours from the colormap, blended edges"
+    assert got.extent == (0, 1, 0, 1)
