@@ -179,6 +179,48 @@ def _is_categorical(values: Any) -> bool:
     return getattr(dtype, "kind", "O") in "OUSb" or str(dtype) == "category"
 
 
+def _first_appearance(values: Any) -> tuple[npt.NDArray[numpy.int64], list[Any]]:
+    """Each value's category number and the categories, numbered in the order of their first
+    appearance: pandas' hashing (``factorize``) where pandas is installed, numpy's sorting for
+    numbers, booleans and numpy strings otherwise, one pass in Python for the rest and for
+    missing values (which are categories of their own)."""
+    array = numpy.asarray(values)
+    codes: Any = None
+    labels: Any = None
+    try:
+        import pandas
+    except ImportError:
+        if array.ndim == 1 and array.dtype.kind in "biuUS":
+            labels, codes = numpy.unique(array, return_inverse=True)
+            used, first, inverse = numpy.unique(codes, return_index=True, return_inverse=True)
+            order = numpy.argsort(first, kind="stable")
+            rank = numpy.empty(len(order), dtype=numpy.int64)
+            rank[order] = numpy.arange(len(order))
+            codes, labels = rank[inverse.reshape(-1)], labels[used[order]]
+    else:
+        cat = getattr(values, "cat", values)
+        if isinstance(getattr(cat, "categories", None), pandas.Index):
+            codes, picks = pandas.factorize(numpy.asarray(cat.codes), sort=False)
+            labels = [cat.categories[i] if i >= 0 else None for i in picks]
+        elif array.ndim == 1:
+            codes, labels = pandas.factorize(array, sort=False)
+    if codes is None or (numpy.asarray(codes) < 0).any() or any(
+        isinstance(c, float) and c != c for c in labels
+    ):
+        array = numpy.asarray(values, dtype=object)
+        categories = list(dict.fromkeys(array.tolist()))
+        index = {c: i for i, c in enumerate(categories)}
+        found = numpy.fromiter((index[c] for c in array.tolist()), dtype=numpy.int64,
+                               count=len(array))
+        return found, categories
+    return numpy.asarray(codes, dtype=numpy.int64), [_plain(c) for c in labels]
+
+
+def _plain(label: Any) -> Any:
+    """A numpy scalar as the Python value it holds (the key a ``color_key`` uses)."""
+    return label.item() if isinstance(label, numpy.generic) else label
+
+
 def colors_of(
     arg: str,
     values: Any,
@@ -192,8 +234,7 @@ def colors_of(
     ``color_key`` (strings, categoricals, booleans, or any column with a ``color_key``), a
     number's from the colormap after :func:`normalise` (``how`` "linear" by default)."""
     if color_key is not None or _is_categorical(values):
-        array = numpy.asarray(values, dtype=object)
-        categories = list(dict.fromkeys(array.tolist()))
+        codes, categories = _first_appearance(values)
         if color_key is None and cmap is not None:
             lut = colormap(cmap)
             picks = numpy.round(numpy.linspace(0, N - 1, len(categories))).astype(numpy.int64)
@@ -214,9 +255,6 @@ def colors_of(
                              f"{arg}")
         rgba = numpy.array([[round(v * 255) for v in _rgba(color_key[c], "color_key")]
                             for c in categories], dtype=numpy.uint8)
-        index = {c: i for i, c in enumerate(categories)}
-        codes = numpy.fromiter((index[c] for c in array.tolist()), dtype=numpy.int64,
-                               count=len(array))
         return _argb(rgba[codes])
     numbers = numpy.asarray(values, dtype=numpy.float64)
     if numbers.ndim != 1:
