@@ -164,8 +164,9 @@ def normalise(
     return numpy.asarray((v - lo) / (hi - lo), dtype=numpy.float64)
 
 
-def lookup(t: npt.NDArray[numpy.float64], lut: npt.NDArray[numpy.uint8]) -> Any:
-    """Entries of ``lut`` for normalised values ``t`` in 0..1."""
+def lookup(t: npt.NDArray[numpy.float64], lut: npt.NDArray[Any]) -> Any:
+    """Entries of ``lut`` (its rows: RGBA bytes, or D3DCOLORs) for normalised values ``t`` in
+    0..1."""
     index = numpy.minimum((t * N).astype(numpy.int64), N - 1)
     return lut[index]
 
@@ -255,14 +256,15 @@ def colors_of(
                              f"{arg}")
         rgba = numpy.array([[round(v * 255) for v in _rgba(color_key[c], "color_key")]
                             for c in categories], dtype=numpy.uint8)
-        return _argb(rgba[codes])
+        return _argb(rgba)[codes]
     numbers = numpy.asarray(values, dtype=numpy.float64)
     if numbers.ndim != 1:
         raise ValueError(f"{arg} must be a 1-D column of values; got shape {numbers.shape}")
     nan = numpy.isnan(numbers)
     if nan.any():
         raise ValueError(f"{arg}[{int(numpy.argmax(nan))}] is NaN")
-    return _argb(lookup(normalise(numbers, how or "linear", vmin, vmax), colormap(cmap)))
+    # The map's 256 D3DCOLORs, gathered once a point (not four bytes a point, then packed).
+    return lookup(normalise(numbers, how or "linear", vmin, vmax), _argb(colormap(cmap)))
 
 
 def shade_counts(
