@@ -326,15 +326,12 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
 mod tests {
     use super::*;
 
-    fn scratch_dir(tag: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!(
-            "pointillist-image-{tag}-{}-{:?}",
-            std::process::id(),
-            std::thread::current().id()
-        ));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh folder, removed when the test ends.
+    fn scratch_dir(tag: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("pointillist-image-{tag}-"))
+            .tempdir()
+            .unwrap()
     }
 
     fn leftovers(dir: &Path) -> Vec<String> {
@@ -349,7 +346,8 @@ mod tests {
 
     #[test]
     fn write_png_atomic_writes_and_replaces() {
-        let dir = scratch_dir("write");
+        let tmp = scratch_dir("write");
+        let dir = tmp.path().to_path_buf();
         let path = dir.join("out.png");
         write_png_atomic(&path, 2, 1, &RGBA_2X1).unwrap();
         let t = load_texture(&path).unwrap();
@@ -358,12 +356,12 @@ mod tests {
         let t = load_texture(&path).unwrap();
         assert_eq!(t.levels()[0].texels, vec![0x0401_0203]);
         assert!(leftovers(&dir).is_empty());
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn write_png_atomic_failure_leaves_target_and_no_temp_file() {
-        let dir = scratch_dir("fail");
+        let tmp = scratch_dir("fail");
+        let dir = tmp.path().to_path_buf();
         // The target is a non-empty directory: the rename must fail and change nothing.
         let target = dir.join("taken.png");
         fs::create_dir(&target).unwrap();
@@ -388,14 +386,14 @@ mod tests {
         let e = write_png_atomic(&missing, 2, 1, &RGBA_2X1).unwrap_err();
         assert!(e.to_string().contains("no-such-dir"), "{e}");
         assert!(leftovers(&dir).is_empty());
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[cfg(unix)]
     #[test]
     fn write_png_atomic_in_read_only_directory_keeps_old_file() {
         use std::os::unix::fs::PermissionsExt;
-        let dir = scratch_dir("ro");
+        let tmp = scratch_dir("ro");
+        let dir = tmp.path().to_path_buf();
         let path = dir.join("old.png");
         fs::write(&path, b"old content").unwrap();
         fs::set_permissions(&dir, fs::Permissions::from_mode(0o555)).unwrap();
@@ -410,12 +408,12 @@ mod tests {
         }
         fs::set_permissions(&dir, fs::Permissions::from_mode(0o755)).unwrap();
         assert!(leftovers(&dir).is_empty());
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn load_texture_by_magic_then_extension_and_names_the_path() {
-        let dir = scratch_dir("load");
+        let tmp = scratch_dir("load");
+        let dir = tmp.path().to_path_buf();
         let png_bytes = png::encode_png_rgba8(2, 1, &RGBA_2X1).unwrap();
         // Signature wins over a misleading extension.
         let odd = dir.join("really-a-png.dds");
@@ -442,6 +440,5 @@ mod tests {
             decode_texture(b"nothing"),
             Err(ImageError::UnknownFormat)
         ));
-        fs::remove_dir_all(&dir).unwrap();
     }
 }

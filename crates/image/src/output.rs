@@ -384,12 +384,12 @@ pub fn commit_all(mut files: Vec<PendingFile>) -> Result<(), ImageError> {
 mod tests {
     use super::*;
 
-    fn scratch(tag: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("pointillist-output-{tag}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh folder, removed when the test ends.
+    fn scratch(tag: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("pointillist-output-{tag}-"))
+            .tempdir()
+            .unwrap()
     }
 
     fn listing(dir: &Path) -> Vec<String> {
@@ -407,7 +407,8 @@ mod tests {
 
     #[test]
     fn an_input_is_never_an_output_under_any_name() {
-        let dir = scratch("input");
+        let tmp = scratch("input");
+        let dir = tmp.path().to_path_buf();
         let scene = dir.join("scene.toml");
         fs::write(&scene, b"format = 1").unwrap();
         let inputs = [scene.clone()];
@@ -428,14 +429,14 @@ mod tests {
             assert!(e.to_string().contains("is the input"), "{name}: {e}");
         }
         assert_eq!(fs::read(&scene).unwrap(), b"format = 1");
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[cfg(unix)]
     #[test]
     fn links_are_followed_and_modes_kept() {
         use std::os::unix::fs::PermissionsExt;
-        let dir = scratch("links");
+        let tmp = scratch("links");
+        let dir = tmp.path().to_path_buf();
         let real = dir.join("real.png");
         fs::write(&real, b"old").unwrap();
         fs::set_permissions(&real, Permissions::from_mode(0o600)).unwrap();
@@ -462,13 +463,13 @@ mod tests {
             listing(&dir),
             ["fresh.png", "link.png", "probe", "real.png"]
         );
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[cfg(unix)]
     #[test]
     fn only_regular_files_are_written() {
-        let dir = scratch("special");
+        let tmp = scratch("special");
+        let dir = tmp.path().to_path_buf();
         let fifo = dir.join("pipe.png");
         let made = std::process::Command::new("mkfifo").arg(&fifo).status();
         if made.is_ok_and(|s| s.success()) {
@@ -488,12 +489,12 @@ mod tests {
         assert!(e.contains("a directory"), "{e}");
         let e = write(&dir.join("no").join("x.png"), &[], b"x").unwrap_err();
         assert!(e.to_string().contains("folder"), "{e}");
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn names_up_to_255_bytes_work_and_nothing_stays_behind() {
-        let dir = scratch("long");
+        let tmp = scratch("long");
+        let dir = tmp.path().to_path_buf();
         for len in [240, 241, 250, 255] {
             let name = format!("{}.png", "n".repeat(len - 4));
             write(&dir.join(&name), &[], b"data").unwrap();
@@ -525,6 +526,5 @@ mod tests {
         commit_all(dests).unwrap();
         assert_eq!(listing(&dir), ["f0.png", "f1.png", "f2.png", "keep.png"]);
         assert!(!pending().paths().iter().any(|p| p.starts_with(&dir)));
-        fs::remove_dir_all(&dir).unwrap();
     }
 }
