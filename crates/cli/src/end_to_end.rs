@@ -37,11 +37,12 @@ const STORM_FRAMES: u32 = 120;
 /// Times the renders, printing one line per workload.
 pub fn run(options: &Options) -> Result<(), String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot find this program: {e}"))?;
-    let dir = std::env::temp_dir().join(format!("pointillist-bench-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let result = run_in(options, &exe, &dir);
-    let _ = std::fs::remove_dir_all(&dir);
-    result
+    // Removed when the timing ends, whatever its outcome.
+    let dir = tempfile::Builder::new()
+        .prefix("pointillist-bench-")
+        .tempdir()
+        .map_err(|e| format!("cannot create a temporary folder: {e}"))?;
+    run_in(options, &exe, dir.path())
 }
 
 fn run_in(options: &Options, exe: &Path, dir: &Path) -> Result<(), String> {
@@ -285,11 +286,9 @@ mod tests {
     /// (every field, the texture's texels included), seed, step, warm-up and camera.
     #[test]
     fn the_storm_scene_is_the_preset() {
-        let dir = std::env::temp_dir().join(format!("pointillist-storm-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = write_storm_scene(&dir, 1234, 7).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let path = write_storm_scene(dir.path(), 1234, 7).unwrap();
         let scene = pointillist_scene::load(&path).unwrap();
-        std::fs::remove_dir_all(&dir).unwrap();
 
         let preset = presets::snow_storm_system(1234, Some(Arc::new(storm_texture())), 1);
         assert_eq!(scene.emitters.len(), 1);
