@@ -219,7 +219,7 @@ impl Plot {
     /// The texture of stage 0: the plot's, or the disc of a circle marker.
     pub fn sprite(&self) -> Option<Arc<Texture>> {
         match self.marker {
-            Marker::Circle => Some(Arc::new(marker::disc(self.blend))),
+            Marker::Circle => Some(marker::shared_disc(self.blend)),
             Marker::Square => self.texture.clone(),
         }
     }

@@ -7,6 +7,8 @@
 //! shows its coverage averaged rather than a few sampled texels. The pixels are those of a
 //! scene drawing the same texture and states: exact, deterministic, the same on Dask.
 
+use std::sync::{Arc, OnceLock};
+
 use pointillist_core::texture::Texture;
 
 use crate::{Blend, PlotError};
@@ -22,21 +24,12 @@ pub enum Marker {
 }
 
 impl Marker {
-    /// Every marker, by name.
-    pub const NAMES: [(&'static str, Marker); 2] =
-        [("square", Marker::Square), ("circle", Marker::Circle)];
+    /// Every marker.
+    pub const ALL: [Marker; 2] = [Marker::Square, Marker::Circle];
 
-    /// The marker named `name`.
+    /// The marker named `name` (`"square"`, `"circle"`).
     pub fn from_name(name: &str) -> Result<Marker, PlotError> {
-        Self::NAMES
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|&(_, m)| m)
-            .ok_or_else(|| {
-                PlotError::Value(format!(
-                    "marker must be \"square\" or \"circle\"; got {name:?}"
-                ))
-            })
+        named(&Self::ALL, Self::name, "marker", name)
     }
 
     /// The marker's name.
@@ -60,21 +53,12 @@ pub enum SizeUnits {
 }
 
 impl SizeUnits {
-    /// Both units, by name.
-    pub const NAMES: [(&'static str, SizeUnits); 2] =
-        [("pixels", SizeUnits::Pixels), ("data", SizeUnits::Data)];
+    /// Both units.
+    pub const ALL: [SizeUnits; 2] = [SizeUnits::Pixels, SizeUnits::Data];
 
-    /// The units named `name`.
+    /// The units named `name` (`"pixels"`, `"data"`).
     pub fn from_name(name: &str) -> Result<SizeUnits, PlotError> {
-        Self::NAMES
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|&(_, u)| u)
-            .ok_or_else(|| {
-                PlotError::Value(format!(
-                    "size_units must be \"pixels\" or \"data\"; got {name:?}"
-                ))
-            })
+        named(&Self::ALL, Self::name, "size_units", name)
     }
 
     /// The units' name.
@@ -84,6 +68,26 @@ impl SizeUnits {
             SizeUnits::Data => "data",
         }
     }
+}
+
+/// The one of `all` whose name is `name`, or an error naming the argument `arg` and listing
+/// the names.
+fn named<T: Copy>(
+    all: &[T],
+    name_of: fn(T) -> &'static str,
+    arg: &str,
+    name: &str,
+) -> Result<T, PlotError> {
+    all.iter()
+        .copied()
+        .find(|&v| name_of(v) == name)
+        .ok_or_else(|| {
+            let names: Vec<String> = all.iter().map(|&v| format!("{:?}", name_of(v))).collect();
+            PlotError::Value(format!(
+                "{arg} must be {}; got {name:?}",
+                names.join(" or ")
+            ))
+        })
 }
 
 /// Side of the disc texture's level 0, in texels.
@@ -111,6 +115,16 @@ pub fn disc(blend: Blend) -> Texture {
         })
         .collect();
     Texture::from_argb(n, n, texels).expect("a 64x64 texture is within every limit")
+}
+
+/// [`disc`] for `blend`, made once a process for each of its two colourings (premultiplied for
+/// "add" and "max", white for "alpha" and "replace") and shared by every draw and tile.
+pub(crate) fn shared_disc(blend: Blend) -> Arc<Texture> {
+    static DISCS: [OnceLock<Arc<Texture>>; 2] = [OnceLock::new(), OnceLock::new()];
+    let premultiplied = matches!(blend, Blend::Add | Blend::Max);
+    DISCS[usize::from(premultiplied)]
+        .get_or_init(|| Arc::new(disc(blend)))
+        .clone()
 }
 
 #[cfg(test)]
@@ -200,7 +214,7 @@ mod tests {
         }
         let textured = Plot {
             marker: Marker::Circle,
-            texture: Some(std::sync::Arc::new(disc(Blend::Add))),
+            texture: Some(Arc::new(disc(Blend::Add))),
             ..Plot::new(8, 8)
         };
         assert!(textured.check_marker().is_err());
@@ -214,11 +228,11 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_unknown_ones_are_refused() {
-        for (name, m) in Marker::NAMES {
-            assert_eq!((Marker::from_name(name).unwrap(), m.name()), (m, name));
+        for m in Marker::ALL {
+            assert_eq!(Marker::from_name(m.name()).unwrap(), m);
         }
-        for (name, u) in SizeUnits::NAMES {
-            assert_eq!((SizeUnits::from_name(name).unwrap(), u.name()), (u, name));
+        for u in SizeUnits::ALL {
+            assert_eq!(SizeUnits::from_name(u.name()).unwrap(), u);
         }
         let e = Marker::from_name("disc").unwrap_err().to_string();
         assert!(e.contains("marker") && e.contains("\"disc\""), "{e}");
